@@ -1,0 +1,35 @@
+#pragma once
+// Per-face and per-vertex geometric quantities shared by the denoiser, the metrics and the noise module.
+#include <vector>
+
+#include "scanmesh/mesh.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+
+/// Unit normals, areas and centroids of all faces. A degenerate face (area below 1e-300 or collinear
+/// corners) gets a zero normal and zero area, so it carries no weight anywhere; nothing becomes NaN.
+struct FaceGeometry {
+  std::vector<Vec3> normals;
+  std::vector<double> areas;
+  std::vector<Vec3> centroids;
+};
+
+/// Computes FaceGeometry for `positions` (which may differ from mesh.positions, e.g. while iterating).
+/// Runs in parallel; the result does not depend on the thread count.
+void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector<Face>& faces,
+                           FaceGeometry& out);
+
+/// Unit normal and area of one triangle (zero normal if degenerate).
+Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c, double* area = nullptr);
+
+/// Mean length over the mesh's unique edges (0 for a mesh without edges).
+double mean_edge_length(const Mesh& mesh, const Topology& topology);
+
+/// Area-weighted vertex normals from the given face normals (zero for isolated vertices).
+std::vector<Vec3> vertex_normals(const Topology& topology, const FaceGeometry& geometry);
+
+/// Axis-aligned bounding-box diagonal length of the positions (0 if fewer than two points).
+double bbox_diagonal(const std::vector<Vec3>& positions);
+
+}  // namespace scanmesh

@@ -1,0 +1,65 @@
+#include "scanmesh/geometry.h"
+
+#include <cmath>
+
+namespace scanmesh {
+
+Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c, double* area) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double len = n.norm();
+  if (area != nullptr) *area = 0.5 * len;
+  if (!(len > 1e-300)) {
+    if (area != nullptr) *area = 0.0;
+    return Vec3::Zero();
+  }
+  return n / len;
+}
+
+void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector<Face>& faces,
+                           FaceGeometry& out) {
+  const auto nf = static_cast<long>(faces.size());
+  out.normals.resize(faces.size());
+  out.areas.resize(faces.size());
+  out.centroids.resize(faces.size());
+#pragma omp parallel for schedule(static)
+  for (long f = 0; f < nf; ++f) {
+    const Vec3& a = positions[faces[f][0]];
+    const Vec3& b = positions[faces[f][1]];
+    const Vec3& c = positions[faces[f][2]];
+    out.normals[f] = triangle_normal(a, b, c, &out.areas[f]);
+    out.centroids[f] = (a + b + c) / 3.0;
+  }
+}
+
+double mean_edge_length(const Mesh& mesh, const Topology& topology) {
+  if (topology.edges.empty()) return 0.0;
+  double sum = 0.0;
+  for (const auto& [a, b] : topology.edges) sum += (mesh.positions[a] - mesh.positions[b]).norm();
+  return sum / static_cast<double>(topology.edges.size());
+}
+
+std::vector<Vec3> vertex_normals(const Topology& topology, const FaceGeometry& geometry) {
+  const auto nv = static_cast<long>(topology.vertex_faces.rows());
+  std::vector<Vec3> normals(nv, Vec3::Zero());
+#pragma omp parallel for schedule(static)
+  for (long v = 0; v < nv; ++v) {
+    Vec3 n = Vec3::Zero();
+    for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
+      n += geometry.areas[*f] * geometry.normals[*f];
+    const double len = n.norm();
+    normals[v] = len > 0.0 ? Vec3(n / len) : Vec3::Zero();
+  }
+  return normals;
+}
+
+double bbox_diagonal(const std::vector<Vec3>& positions) {
+  if (positions.size() < 2) return 0.0;
+  Vec3 lo = positions[0], hi = positions[0];
+  for (const auto& p : positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+}  // namespace scanmesh

@@ -1,0 +1,187 @@
+#include "scanmesh/topology.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace scanmesh {
+namespace {
+
+// Fills a CSR adjacency from (row, value) pairs; values within a row keep their order of appearance.
+Adjacency build_csr(std::size_t rows, const std::vector<std::pair<int, int>>& pairs) {
+  Adjacency a;
+  a.offsets.assign(rows + 1, 0);
+  for (const auto& [r, v] : pairs) ++a.offsets[r + 1];
+  std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
+  a.indices.resize(pairs.size());
+  std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
+  for (const auto& [r, v] : pairs) a.indices[fill[r]++] = v;
+  return a;
+}
+
+void sort_unique_rows(Adjacency& a) {
+  Adjacency out;
+  out.offsets.assign(a.rows() + 1, 0);
+  out.indices.reserve(a.indices.size());
+  for (std::size_t i = 0; i < a.rows(); ++i) {
+    std::vector<int> row(a.begin(i), a.end(i));
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    out.indices.insert(out.indices.end(), row.begin(), row.end());
+    out.offsets[i + 1] = static_cast<int>(out.indices.size());
+  }
+  a = std::move(out);
+}
+
+}  // namespace
+
+std::size_t Topology::num_boundary_edges() const {
+  std::size_t n = 0;
+  for (std::size_t e = 0; e < edges.size(); ++e) n += is_boundary_edge(e) ? 1 : 0;
+  return n;
+}
+
+std::size_t Topology::num_nonmanifold_edges() const {
+  std::size_t n = 0;
+  for (std::size_t e = 0; e < edges.size(); ++e) n += is_nonmanifold_edge(e) ? 1 : 0;
+  return n;
+}
+
+Topology build_topology(const Mesh& mesh) {
+  Topology t;
+  const std::size_t nv = mesh.num_vertices();
+  const std::size_t nf = mesh.num_faces();
+
+  {  // vertex -> faces: faces are visited in ascending order, so rows come out sorted.
+    std::vector<std::pair<int, int>> pairs;
+    pairs.reserve(3 * nf);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int v = mesh.faces[f][k];
+        // A degenerate face may name a vertex twice; list it once.
+        if (k > 0 && mesh.faces[f][k - 1] == v) continue;
+        if (k == 2 && mesh.faces[f][0] == v) continue;
+        pairs.emplace_back(v, static_cast<int>(f));
+      }
+    t.vertex_faces = build_csr(nv, pairs);
+  }
+
+  // Half-edges keyed by their undirected edge; sorting gives unique edges in a deterministic order.
+  struct HalfEdge {
+    int a, b, face, local;
+  };
+  std::vector<HalfEdge> half;
+  half.reserve(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int u = mesh.faces[f][k];
+      const int w = mesh.faces[f][(k + 1) % 3];
+      half.push_back({std::min(u, w), std::max(u, w), static_cast<int>(f), k});
+    }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return std::tie(x.a, x.b, x.face, x.local) < std::tie(y.a, y.b, y.face, y.local);
+  });
+
+  t.face_edges.assign(nf, {-1, -1, -1});
+  t.edge_faces.offsets.assign(1, 0);
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i;
+    const int e = static_cast<int>(t.edges.size());
+    t.edges.push_back({half[i].a, half[i].b});
+    int last_face = -1;
+    for (; j < half.size() && half[j].a == half[i].a && half[j].b == half[i].b; ++j) {
+      t.face_edges[half[j].face][half[j].local] = e;
+      if (half[j].face != last_face) t.edge_faces.indices.push_back(half[j].face);
+      last_face = half[j].face;
+    }
+    t.edge_faces.offsets.push_back(static_cast<int>(t.edge_faces.indices.size()));
+    i = j;
+  }
+
+  {  // vertex -> vertices from the unique edges (self-loops of degenerate faces are skipped).
+    std::vector<std::pair<int, int>> pairs;
+    pairs.reserve(2 * t.edges.size());
+    for (const auto& [a, b] : t.edges) {
+      if (a == b) continue;
+      pairs.emplace_back(a, b);
+      pairs.emplace_back(b, a);
+    }
+    t.vertex_vertices = build_csr(nv, pairs);
+    sort_unique_rows(t.vertex_vertices);
+  }
+
+  {  // face -> edge-adjacent faces
+    std::vector<std::pair<int, int>> pairs;
+    for (std::size_t e = 0; e < t.edges.size(); ++e)
+      for (const int* f = t.edge_faces.begin(e); f != t.edge_faces.end(e); ++f)
+        for (const int* g = t.edge_faces.begin(e); g != t.edge_faces.end(e); ++g)
+          if (*f != *g) pairs.emplace_back(*f, *g);
+    t.face_faces = build_csr(nf, pairs);
+    sort_unique_rows(t.face_faces);
+  }
+
+  t.boundary_vertex.assign(nv, 0);
+  // Boundary successor following face orientation: boundary half-edge u->w of its only face.
+  std::vector<int> next(nv, -1), boundary_degree(nv, 0);
+  for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    if (!t.is_boundary_edge(e) || t.edges[e][0] == t.edges[e][1]) continue;
+    const int f = t.edge_faces.indices[t.edge_faces.offsets[e]];
+    for (int k = 0; k < 3; ++k)
+      if (t.face_edges[f][k] == static_cast<int>(e)) {
+        const int u = mesh.faces[f][k];
+        const int w = mesh.faces[f][(k + 1) % 3];
+        t.boundary_vertex[u] = t.boundary_vertex[w] = 1;
+        ++boundary_degree[u];
+        ++boundary_degree[w];
+        next[u] = w;
+        break;
+      }
+  }
+  // Chain vertices of boundary degree 2 into loops; start chains at irregular vertices first.
+  std::vector<std::uint8_t> used(nv, 0);
+  auto walk = [&](int start) {
+    std::vector<int> loop;
+    int v = start;
+    while (v >= 0 && !used[v]) {
+      used[v] = 1;
+      loop.push_back(v);
+      if (boundary_degree[v] != 2 && v != start) break;
+      v = next[v];
+    }
+    if (loop.size() >= 2) {
+      const bool closed = loop.size() >= 3 && next[loop.back()] == loop.front() &&
+                          boundary_degree[loop.front()] == 2 && boundary_degree[loop.back()] == 2;
+      t.boundary_loops.push_back(std::move(loop));
+      t.boundary_loop_closed.push_back(closed ? 1 : 0);
+    }
+  };
+  for (std::size_t v = 0; v < nv; ++v)
+    if (boundary_degree[v] != 0 && boundary_degree[v] != 2) walk(static_cast<int>(v));
+  for (std::size_t v = 0; v < nv; ++v)
+    if (boundary_degree[v] == 2 && !used[v]) walk(static_cast<int>(v));
+  return t;
+}
+
+std::size_t count_components(const Mesh& mesh, const Topology& topology) {
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<int> label(nv, -1);
+  std::vector<int> stack;
+  std::size_t components = 0;
+  for (std::size_t s = 0; s < nv; ++s) {
+    if (label[s] >= 0 || topology.vertex_faces.size(s) == 0) continue;
+    stack.push_back(static_cast<int>(s));
+    label[s] = static_cast<int>(components);
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (const int* w = topology.vertex_vertices.begin(v); w != topology.vertex_vertices.end(v); ++w)
+        if (label[*w] < 0) {
+          label[*w] = static_cast<int>(components);
+          stack.push_back(*w);
+        }
+    }
+    ++components;
+  }
+  return components;
+}
+
+}  // namespace scanmesh

@@ -1,0 +1,82 @@
+#pragma once
+// Robust two-stage mesh denoising: Yadav, Reitebuch, Polthier, "Robust and High Fidelity Mesh
+// Denoising", IEEE TVCG 2019. Each iteration filters the face normals with a robust bilateral filter
+// (stage 1, normal_filtering.h) and then moves the vertices to agree with the filtered normals plus an
+// isotropic fidelity term lambda_I * R_i (stage 2, vertex_update.h); lambda_I decays every iteration.
+#include <functional>
+#include <string>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+/// Robust estimator whose weight function g(x, sigma_s) compares two unit normals, x = |n_i - n_j| in [0, 2].
+enum class RobustEstimator {
+  tukey,       ///< 0.5 (1 - (x/s)^2)^2 for x <= s, else 0: no diffusion across features (the paper's choice)
+  gaussian,    ///< exp(-x^2 / (2 s^2)): classic bilateral normal filter, blurs strong features slightly
+  huber,       ///< 1 for x <= s, else s/x: never fully stops diffusion
+  lorentzian,  ///< 1 / (1 + x^2 / (2 s^2))
+};
+
+/// Which faces form the geometric neighbourhood Omega_i of face i.
+enum class NeighbourhoodKind {
+  ball,            ///< every face whose centroid lies within r of c_i (the paper)
+  connected_ball,  ///< only those reachable from i through edge-adjacent faces inside the ball (the
+                   ///< authors' code): thin walls and nearby sheets do not mix
+};
+
+/// Options of the denoiser; also the schema of the `mesh.denoise` pipeline stage.
+struct DenoiseOptions {
+  /// Similarity kernel width sigma_s on |n_i - n_j| (range 0.05 .. 2). Smaller keeps more features but
+  /// leaves more noise; larger smooths more and rounds sharp edges. CAD-like 0.3-0.6, organic 0.6-1.0.
+  double sigma_s = 0.45;
+  /// Fidelity/isotropic weight lambda_I (range 0 .. 1). Evens out triangles and stops flips under strong
+  /// noise; too large shrinks and blurs. Multiplied by `decay` after every iteration.
+  double lambda = 0.2;
+  /// Number of iterations p (>= 1). More removes more noise; too many over-smooth organic shapes.
+  int iterations = 60;
+  /// lambda_I <- decay * lambda_I after every iteration (the paper: 0.6; the authors' code: 0.7).
+  double decay = 0.6;
+  /// Neighbourhood radius r = radius_factor * c_a, where c_a is the mean distance between centroids of
+  /// edge-adjacent faces; the closeness kernel width is sigma_c = c_a (the paper: 2).
+  double radius_factor = 2.0;
+  RobustEstimator estimator = RobustEstimator::tukey;
+  NeighbourhoodKind neighbourhood = NeighbourhoodKind::ball;
+  /// Recompute the neighbourhoods from the moved centroids every iteration (slower; rarely matters).
+  bool recompute_neighbourhoods = false;
+  /// Keep boundary vertices on the boundary: they move only along the surface normal and along the
+  /// boundary curve, following a robustly filtered boundary-curve normal. Off = the authors' behaviour,
+  /// where open boundaries shrink inwards.
+  bool keep_boundary = true;
+};
+
+/// What a denoising run did (for reports).
+struct DenoiseReport {
+  double mean_centroid_distance = 0.0;  ///< c_a of the input
+  double mean_neighbourhood_size = 0.0;  ///< faces per Omega_i
+  std::size_t boundary_vertices = 0;
+  int iterations = 0;
+  double seconds_neighbourhoods = 0.0;
+  double seconds_filtering = 0.0;
+  double seconds_vertex_update = 0.0;
+};
+
+/// Called after every iteration with (iterations done, total).
+using ProgressCallback = std::function<void(int, int)>;
+
+/// Parses/prints option values ("tukey", "connected_ball", ...). Parsing throws UsageError listing the choices.
+RobustEstimator parse_estimator(const std::string& name);
+NeighbourhoodKind parse_neighbourhood(const std::string& name);
+std::string to_string(RobustEstimator estimator);
+std::string to_string(NeighbourhoodKind kind);
+
+/// Throws UsageError naming the option if a value is out of range.
+void validate(const DenoiseOptions& options);
+
+/// Denoises `mesh` in place. Connectivity, vertex order and vertex properties are kept; stored vertex
+/// normals (nx, ny, nz) are recomputed from the result. Degenerate faces, isolated vertices, non-manifold
+/// edges and several components are allowed. Deterministic: the result does not depend on the thread count.
+/// \throw UsageError for invalid options.
+DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress = {});
+
+}  // namespace scanmesh

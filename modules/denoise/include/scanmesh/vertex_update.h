@@ -1,0 +1,43 @@
+#pragma once
+// Stage 2 of the robust two-stage denoiser: one gradient step of the vertex update (Yadav et al. 2019,
+// eq. 4-6, with the typos fixed as in docs):
+//   v_i <- v_i + 1/|F_v(i)| sum_k n~_k (n~_k . (c_k - v_i)) + lambda_I (D_i + D_t_i)
+// where D_i is the |v_i - v_j|^2-weighted differential coordinate and D_t_i its tangential part.
+#include <vector>
+
+#include "scanmesh/denoise.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+
+/// Boundary curves in the form the vertex update needs: loop edges in order, and per boundary vertex
+/// its two neighbours along the boundary (or -1).
+struct BoundaryCurves {
+  struct Edge {
+    int a, b;  ///< a -> b follows the orientation of `face`
+    int face;
+  };
+  std::vector<Edge> edges;
+  Adjacency loop_edges;                   ///< edge indices of each loop, in order
+  std::vector<std::uint8_t> loop_closed;  ///< per loop
+  std::vector<int> prev, next;            ///< per vertex: boundary neighbours (-1 if none/irregular)
+  std::vector<std::array<int, 2>> vertex_edges;  ///< per vertex: incident loop edges (-1 if none)
+};
+
+BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology);
+
+/// Filters the in-surface outward normals m_e = normalize(edge x n~_face) of the boundary edges along
+/// each loop with the same robust bilateral weights as stage 1 (closeness on midpoint distance with
+/// sigma = mean boundary edge length, up to `radius_factor` of it).
+void filter_boundary_normals(const std::vector<Vec3>& positions, const BoundaryCurves& curves,
+                             const std::vector<Vec3>& filtered_face_normals, double sigma_s,
+                             RobustEstimator estimator, double radius_factor, std::vector<Vec3>& filtered);
+
+/// One vertex-update step from `positions` into `updated`. With `boundary` non-null, boundary vertices
+/// fit the filtered boundary normals instead of being pulled inwards by the differential coordinate.
+void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const FaceGeometry& geometry,
+                     const std::vector<Vec3>& filtered_normals, double lambda, const BoundaryCurves* boundary,
+                     const std::vector<Vec3>* boundary_normals, std::vector<Vec3>& updated);
+
+}  // namespace scanmesh

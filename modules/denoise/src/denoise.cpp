@@ -1,0 +1,126 @@
+#include "scanmesh/denoise.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "scanmesh/errors.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/normal_filtering.h"
+#include "scanmesh/topology.h"
+#include "scanmesh/vertex_update.h"
+
+namespace scanmesh {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+RobustEstimator parse_estimator(const std::string& name) {
+  if (name == "tukey") return RobustEstimator::tukey;
+  if (name == "gaussian") return RobustEstimator::gaussian;
+  if (name == "huber") return RobustEstimator::huber;
+  if (name == "lorentzian") return RobustEstimator::lorentzian;
+  throw UsageError("unknown robust estimator '" + name + "'; choose tukey, gaussian, huber or lorentzian");
+}
+
+NeighbourhoodKind parse_neighbourhood(const std::string& name) {
+  if (name == "ball") return NeighbourhoodKind::ball;
+  if (name == "connected_ball" || name == "connected-ball") return NeighbourhoodKind::connected_ball;
+  throw UsageError("unknown neighbourhood '" + name + "'; choose ball or connected_ball");
+}
+
+std::string to_string(RobustEstimator e) {
+  switch (e) {
+    case RobustEstimator::tukey: return "tukey";
+    case RobustEstimator::gaussian: return "gaussian";
+    case RobustEstimator::huber: return "huber";
+    case RobustEstimator::lorentzian: return "lorentzian";
+  }
+  return "?";
+}
+
+std::string to_string(NeighbourhoodKind k) { return k == NeighbourhoodKind::ball ? "ball" : "connected_ball"; }
+
+void validate(const DenoiseOptions& o) {
+  auto check = [](bool ok, const std::string& msg) {
+    if (!ok) throw UsageError(msg);
+  };
+  check(std::isfinite(o.sigma_s) && o.sigma_s > 0.0 && o.sigma_s <= 2.0,
+        "sigma_s must be in (0, 2] (it compares unit normals, |n_i - n_j| <= 2); got " + std::to_string(o.sigma_s));
+  check(std::isfinite(o.lambda) && o.lambda >= 0.0 && o.lambda <= 1.0,
+        "lambda must be in [0, 1]; got " + std::to_string(o.lambda));
+  check(o.iterations >= 0 && o.iterations <= 100000, "iterations must be in [0, 100000]; got " + std::to_string(o.iterations));
+  check(std::isfinite(o.decay) && o.decay >= 0.0 && o.decay <= 1.0, "decay must be in [0, 1]; got " + std::to_string(o.decay));
+  check(std::isfinite(o.radius_factor) && o.radius_factor >= 0.5 && o.radius_factor <= 10.0,
+        "radius_factor must be in [0.5, 10]; got " + std::to_string(o.radius_factor));
+}
+
+DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress) {
+  validate(options);
+  DenoiseReport report;
+  if (mesh.faces.empty() || options.iterations == 0) return report;
+
+  const Topology topology = build_topology(mesh);
+  BoundaryCurves curves;
+  const bool boundary = options.keep_boundary && topology.num_boundary_edges() > 0;
+  if (boundary) curves = build_boundary_curves(mesh, topology);
+  for (auto b : topology.boundary_vertex) report.boundary_vertices += b;
+
+  std::vector<Vec3> positions = mesh.positions, updated;
+  FaceGeometry geometry;
+  compute_face_geometry(positions, mesh.faces, geometry);
+
+  auto t0 = std::chrono::steady_clock::now();
+  const double c_a = mean_centroid_distance(mesh, topology, geometry);
+  report.mean_centroid_distance = c_a;
+  if (!(c_a > 0.0)) return report;  // every face degenerate: nothing to filter
+  Adjacency neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood);
+  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
+  report.seconds_neighbourhoods += seconds_since(t0);
+
+  std::vector<Vec3> filtered, boundary_normals;
+  double lambda = options.lambda;
+  for (int it = 0; it < options.iterations; ++it) {
+    if (it > 0) compute_face_geometry(positions, mesh.faces, geometry);
+    if (options.recompute_neighbourhoods && it > 0) {
+      t0 = std::chrono::steady_clock::now();
+      neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood);
+      report.seconds_neighbourhoods += seconds_since(t0);
+    }
+    t0 = std::chrono::steady_clock::now();
+    filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
+    if (boundary)
+      filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.radius_factor,
+                              boundary_normals);
+    report.seconds_filtering += seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    update_vertices(positions, topology, geometry, filtered, lambda, boundary ? &curves : nullptr,
+                    boundary ? &boundary_normals : nullptr, updated);
+    positions.swap(updated);
+    report.seconds_vertex_update += seconds_since(t0);
+    lambda *= options.decay;
+    ++report.iterations;
+    if (progress) progress(it + 1, options.iterations);
+  }
+  mesh.positions = std::move(positions);
+
+  // Stored vertex normals describe the old surface; replace them with the new one's.
+  VertexProperty* nx = mesh.find_property("nx");
+  VertexProperty* ny = mesh.find_property("ny");
+  VertexProperty* nz = mesh.find_property("nz");
+  if (nx && ny && nz) {
+    compute_face_geometry(mesh.positions, mesh.faces, geometry);
+    const std::vector<Vec3> normals = vertex_normals(topology, geometry);
+    for (std::size_t v = 0; v < normals.size(); ++v) {
+      nx->values[v] = normals[v][0];
+      ny->values[v] = normals[v][1];
+      nz->values[v] = normals[v][2];
+    }
+  }
+  return report;
+}
+
+}  // namespace scanmesh

@@ -1,0 +1,75 @@
+#include "scanmesh/mesh_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "formats.h"
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/errors.h"
+
+namespace scanmesh {
+namespace detail {
+
+void add_polygon(Mesh& mesh, const std::vector<int>& corners, std::size_t& polygons_split) {
+  if (corners.size() > 3) ++polygons_split;
+  for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+    mesh.faces.push_back({corners[0], corners[k], corners[k + 1]});
+}
+
+ColourView find_colours(const Mesh& mesh) {
+  ColourView c;
+  c.r = mesh.find_property("red");
+  c.g = mesh.find_property("green");
+  c.b = mesh.find_property("blue");
+  return c;
+}
+
+}  // namespace detail
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+bool is_mesh_extension(const std::string& ext) {
+  return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl";
+}
+
+Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
+  const std::string ext = lower_extension(path);
+  if (!is_mesh_extension(ext))
+    throw InputError("'" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
+                     "'; supported: .obj .off .ply .stl");
+  const std::string data = read_file(path);
+  if (data.empty()) throw InputError("'" + path + "': file is empty");
+  std::vector<std::string> local;
+  std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
+  Mesh mesh;
+  if (ext == ".obj") mesh = detail::read_obj(data, path, w);
+  else if (ext == ".off") mesh = detail::read_off(data, path, w);
+  else if (ext == ".ply") mesh = detail::read_ply(data, path, w);
+  else mesh = detail::read_stl(data, path, w);
+  validate_mesh(mesh, "'" + path + "'");
+  if (mesh.faces.empty()) throw InputError("'" + path + "': contains no faces");
+  return mesh;
+}
+
+std::string encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options) {
+  if (extension == ".obj") return detail::write_obj(mesh);
+  if (extension == ".off") return detail::write_off(mesh);
+  if (extension == ".ply") return detail::write_ply(mesh, options.binary);
+  if (extension == ".stl") return detail::write_stl(mesh, options.binary);
+  throw UsageError("unknown mesh format '" + extension + "'; supported: .obj .off .ply .stl");
+}
+
+void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
+  const std::string ext = lower_extension(path);
+  if (!is_mesh_extension(ext))
+    throw UsageError("output '" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
+                     "'; supported: .obj .off .ply .stl");
+  write_file_atomically(path, encode_mesh(mesh, ext, options));
+}
+
+}  // namespace scanmesh

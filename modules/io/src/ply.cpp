@@ -1,0 +1,339 @@
+// PLY (Stanford polygon format): ascii, binary_little_endian and binary_big_endian.
+// Every scalar vertex property is kept with its type; faces come from the list property
+// "vertex_indices" (or "vertex_index"); other elements are skipped with a warning.
+#include <bit>
+#include <cstring>
+
+#include "formats.h"
+#include "text_scanner.h"
+
+namespace scanmesh::detail {
+namespace {
+
+enum class Encoding { ascii, little, big };
+
+bool parse_type(std::string_view name, ScalarType& t) {
+  if (name == "char" || name == "int8") t = ScalarType::int8;
+  else if (name == "uchar" || name == "uint8") t = ScalarType::uint8;
+  else if (name == "short" || name == "int16") t = ScalarType::int16;
+  else if (name == "ushort" || name == "uint16") t = ScalarType::uint16;
+  else if (name == "int" || name == "int32") t = ScalarType::int32;
+  else if (name == "uint" || name == "uint32") t = ScalarType::uint32;
+  else if (name == "float" || name == "float32") t = ScalarType::float32;
+  else if (name == "double" || name == "float64") t = ScalarType::float64;
+  else return false;
+  return true;
+}
+
+const char* type_name(ScalarType t) {
+  switch (t) {
+    case ScalarType::int8: return "char";
+    case ScalarType::uint8: return "uchar";
+    case ScalarType::int16: return "short";
+    case ScalarType::uint16: return "ushort";
+    case ScalarType::int32: return "int";
+    case ScalarType::uint32: return "uint";
+    case ScalarType::float32: return "float";
+    case ScalarType::float64: return "double";
+  }
+  return "double";
+}
+
+std::size_t type_size(ScalarType t) {
+  switch (t) {
+    case ScalarType::int8:
+    case ScalarType::uint8: return 1;
+    case ScalarType::int16:
+    case ScalarType::uint16: return 2;
+    case ScalarType::int32:
+    case ScalarType::uint32:
+    case ScalarType::float32: return 4;
+    case ScalarType::float64: return 8;
+  }
+  return 8;
+}
+
+struct Property {
+  std::string name;
+  ScalarType type{};
+  bool is_list = false;
+  ScalarType count_type{};
+};
+
+struct Element {
+  std::string name;
+  long long count = 0;
+  std::vector<Property> properties;
+};
+
+template <typename T>
+T load(const char* p, bool swap) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  if (swap) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+    std::memcpy(&v, b, sizeof(T));
+  }
+  return v;
+}
+
+// Reads values from either the text or the binary body of a PLY file.
+class ValueReader {
+ public:
+  ValueReader(std::string_view data, std::size_t body, Encoding enc, TextScanner& text)
+      : data_(data), pos_(body), enc_(enc), text_(text) {}
+
+  double read(ScalarType t, const Element& e, long long item) {
+    if (enc_ == Encoding::ascii) {
+      const std::string_view tok = text_.any_token(false);
+      if (tok.empty()) text_.fail("file ends while reading " + what(e, item) + " (truncated?)");
+      double v;
+      if (!text_.parse_double(tok, v)) text_.fail("non-numeric value '" + std::string(tok.substr(0, 20)) + "' in " + what(e, item));
+      return v;
+    }
+    const std::size_t n = type_size(t);
+    if (pos_ + n > data_.size())
+      throw InputError(text_.file() + ": binary data ends while reading " + what(e, item) + " (truncated?)");
+    const char* p = data_.data() + pos_;
+    pos_ += n;
+    const bool swap = (enc_ == Encoding::big) == (std::endian::native == std::endian::little);
+    switch (t) {
+      case ScalarType::int8: return static_cast<double>(load<std::int8_t>(p, false));
+      case ScalarType::uint8: return static_cast<double>(load<std::uint8_t>(p, false));
+      case ScalarType::int16: return static_cast<double>(load<std::int16_t>(p, swap));
+      case ScalarType::uint16: return static_cast<double>(load<std::uint16_t>(p, swap));
+      case ScalarType::int32: return static_cast<double>(load<std::int32_t>(p, swap));
+      case ScalarType::uint32: return static_cast<double>(load<std::uint32_t>(p, swap));
+      case ScalarType::float32: return static_cast<double>(load<float>(p, swap));
+      case ScalarType::float64: return load<double>(p, swap);
+    }
+    return 0.0;
+  }
+
+ private:
+  static std::string what(const Element& e, long long item) {
+    return e.name + " " + std::to_string(item) + " of " + std::to_string(e.count);
+  }
+  std::string_view data_;
+  std::size_t pos_;
+  Encoding enc_;
+  TextScanner& text_;
+};
+
+}  // namespace
+
+Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings) {
+  TextScanner s(data, file);
+  if (s.token() != "ply") s.fail("not a PLY file: the first line must be 'ply'");
+  s.skip_line();
+  Encoding enc = Encoding::ascii;
+  bool have_format = false;
+  std::vector<Element> elements;
+  for (;;) {
+    if (s.at_end()) s.fail("header has no 'end_header' line (truncated?)");
+    const std::string_view key = s.token();
+    if (key == "format") {
+      const std::string_view f = s.token();
+      if (f == "ascii") enc = Encoding::ascii;
+      else if (f == "binary_little_endian") enc = Encoding::little;
+      else if (f == "binary_big_endian") enc = Encoding::big;
+      else s.fail("unknown PLY format '" + std::string(f) + "'");
+      have_format = true;
+    } else if (key == "element") {
+      Element e;
+      e.name = std::string(s.token());
+      if (!s.parse_int(s.token(), e.count) || e.count < 0) s.fail("element '" + e.name + "' needs a non-negative count");
+      if (e.count > static_cast<long long>(data.size())) s.fail("element '" + e.name + "' count " + std::to_string(e.count) + " is larger than the file could hold");
+      elements.push_back(std::move(e));
+    } else if (key == "property") {
+      if (elements.empty()) s.fail("property before any element");
+      Property p;
+      std::string_view t = s.token();
+      if (t == "list") {
+        p.is_list = true;
+        if (!parse_type(s.token(), p.count_type)) s.fail("unknown list count type");
+        t = s.token();
+      }
+      if (!parse_type(t, p.type)) s.fail("unknown property type '" + std::string(t) + "'");
+      p.name = std::string(s.token());
+      if (p.name.empty()) s.fail("property without a name");
+      elements.back().properties.push_back(std::move(p));
+    } else if (key == "end_header") {
+      s.skip_line();
+      break;
+    } else if (key == "comment" || key == "obj_info" || key.empty()) {
+      // ignored
+    } else {
+      s.fail("unknown header keyword '" + std::string(key.substr(0, 30)) + "'");
+    }
+    s.skip_line();
+  }
+  if (!have_format) s.fail("header has no 'format' line");
+
+  Mesh mesh;
+  const Element* vertex = nullptr;
+  const Element* face = nullptr;
+  for (const auto& e : elements) {
+    if (e.name == "vertex") vertex = &e;
+    if (e.name == "face") face = &e;
+  }
+  if (vertex == nullptr) s.fail("no 'vertex' element");
+  int xyz[3] = {-1, -1, -1};
+  for (std::size_t i = 0; i < vertex->properties.size(); ++i) {
+    const auto& p = vertex->properties[i];
+    if (p.is_list) continue;
+    if (p.name == "x") xyz[0] = static_cast<int>(i);
+    if (p.name == "y") xyz[1] = static_cast<int>(i);
+    if (p.name == "z") xyz[2] = static_cast<int>(i);
+  }
+  for (int c = 0; c < 3; ++c)
+    if (xyz[c] < 0) throw InputError(file + ": vertex element has no '" + std::string(1, "xyz"[c]) + "' property");
+  if (face == nullptr) throw InputError(file + ": no 'face' element (a point cloud, not a mesh?)");
+  int index_list = -1;
+  for (std::size_t i = 0; i < face->properties.size(); ++i) {
+    const auto& p = face->properties[i];
+    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) index_list = static_cast<int>(i);
+  }
+  if (index_list < 0) throw InputError(file + ": face element has no 'vertex_indices' list");
+
+  // Vertex properties other than x/y/z are kept.
+  std::vector<int> prop_slot(vertex->properties.size(), -1);
+  for (std::size_t i = 0; i < vertex->properties.size(); ++i) {
+    const auto& p = vertex->properties[i];
+    if (p.is_list || static_cast<int>(i) == xyz[0] || static_cast<int>(i) == xyz[1] || static_cast<int>(i) == xyz[2]) continue;
+    prop_slot[i] = static_cast<int>(mesh.vertex_properties.size());
+    mesh.vertex_properties.push_back({p.name, p.type, {}});
+  }
+  for (auto& vp : mesh.vertex_properties) vp.values.resize(static_cast<std::size_t>(vertex->count));
+  mesh.positions.resize(static_cast<std::size_t>(vertex->count));
+
+  ValueReader r(data, s.position(), enc, s);
+  std::size_t polygons_split = 0;
+  std::vector<int> corners;
+  for (const auto& e : elements) {
+    const bool is_vertex = &e == vertex;
+    const bool is_face = &e == face;
+    if (!is_vertex && !is_face) warnings.push_back(file + ": element '" + e.name + "' is not kept");
+    for (long long item = 0; item < e.count; ++item) {
+      for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
+        const Property& p = e.properties[pi];
+        if (p.is_list) {
+          const double n = r.read(p.count_type, e, item);
+          if (!(n >= 0) || n > 1e6) throw InputError(file + ": " + e.name + " " + std::to_string(item) + " has an invalid list length");
+          const auto len = static_cast<long long>(n);
+          if (is_face && static_cast<int>(pi) == index_list) {
+            corners.clear();
+            for (long long k = 0; k < len; ++k) {
+              const double idx = r.read(p.type, e, item);
+              if (!(idx >= 0) || idx >= static_cast<double>(vertex->count))
+                throw InputError(file + ": face " + std::to_string(item) + " refers to vertex " + std::to_string(static_cast<long long>(idx)) +
+                                 ", but there are only " + std::to_string(vertex->count) + " vertices");
+              corners.push_back(static_cast<int>(idx));
+            }
+            if (corners.size() < 3) throw InputError(file + ": face " + std::to_string(item) + " has fewer than three vertices");
+            add_polygon(mesh, corners, polygons_split);
+          } else {
+            for (long long k = 0; k < len; ++k) r.read(p.type, e, item);
+          }
+        } else {
+          const double v = r.read(p.type, e, item);
+          if (is_vertex) {
+            if (static_cast<int>(pi) == xyz[0]) mesh.positions[item][0] = v;
+            else if (static_cast<int>(pi) == xyz[1]) mesh.positions[item][1] = v;
+            else if (static_cast<int>(pi) == xyz[2]) mesh.positions[item][2] = v;
+            else if (prop_slot[pi] >= 0) mesh.vertex_properties[prop_slot[pi]].values[item] = v;
+          }
+        }
+      }
+    }
+  }
+  if (polygons_split > 0)
+    warnings.push_back(file + ": " + std::to_string(polygons_split) + " polygons with more than 3 corners were fan-triangulated");
+  return mesh;
+}
+
+namespace {
+
+template <typename T>
+void store(std::string& out, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big)
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+  out.append(b, sizeof(T));
+}
+
+void store_as(std::string& out, ScalarType t, double v) {
+  switch (t) {
+    case ScalarType::int8: store(out, static_cast<std::int8_t>(v)); break;
+    case ScalarType::uint8: store(out, static_cast<std::uint8_t>(v)); break;
+    case ScalarType::int16: store(out, static_cast<std::int16_t>(v)); break;
+    case ScalarType::uint16: store(out, static_cast<std::uint16_t>(v)); break;
+    case ScalarType::int32: store(out, static_cast<std::int32_t>(v)); break;
+    case ScalarType::uint32: store(out, static_cast<std::uint32_t>(v)); break;
+    case ScalarType::float32: store(out, static_cast<float>(v)); break;
+    case ScalarType::float64: store(out, v); break;
+  }
+}
+
+void append_ascii(std::string& out, ScalarType t, double v) {
+  if (t == ScalarType::float32) append_double(out, static_cast<double>(static_cast<float>(v)));
+  else if (t == ScalarType::float64) append_double(out, v);
+  else append_int(out, static_cast<long long>(v));
+}
+
+}  // namespace
+
+std::string write_ply(const Mesh& mesh, bool binary) {
+  std::string out = "ply\nformat ";
+  out += binary ? "binary_little_endian" : "ascii";
+  out += " 1.0\ncomment written by scanmesh\nelement vertex ";
+  append_int(out, static_cast<long long>(mesh.num_vertices()));
+  out += "\nproperty double x\nproperty double y\nproperty double z\n";
+  for (const auto& p : mesh.vertex_properties) {
+    out += "property ";
+    out += type_name(p.type);
+    out += ' ';
+    out += p.name;
+    out += '\n';
+  }
+  out += "element face ";
+  append_int(out, static_cast<long long>(mesh.num_faces()));
+  out += "\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::size_t nv = mesh.num_vertices();
+  if (binary) {
+    out.reserve(out.size() + nv * (24 + 4 * mesh.vertex_properties.size()) + mesh.num_faces() * 13);
+    for (std::size_t v = 0; v < nv; ++v) {
+      for (int c = 0; c < 3; ++c) store(out, mesh.positions[v][c]);
+      for (const auto& p : mesh.vertex_properties) store_as(out, p.type, p.values[v]);
+    }
+    for (const Face& f : mesh.faces) {
+      store(out, static_cast<std::uint8_t>(3));
+      for (int k = 0; k < 3; ++k) store(out, static_cast<std::int32_t>(f[k]));
+    }
+  } else {
+    for (std::size_t v = 0; v < nv; ++v) {
+      for (int c = 0; c < 3; ++c) {
+        append_double(out, mesh.positions[v][c]);
+        out += ' ';
+      }
+      for (const auto& p : mesh.vertex_properties) {
+        append_ascii(out, p.type, p.values[v]);
+        out += ' ';
+      }
+      out.back() = '\n';
+    }
+    for (const Face& f : mesh.faces) {
+      out += "3 ";
+      for (int k = 0; k < 3; ++k) {
+        append_int(out, f[k]);
+        out += k < 2 ? ' ' : '\n';
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace scanmesh::detail

@@ -1,0 +1,172 @@
+// STL, ascii and binary. STL stores three corner coordinates per triangle; identical coordinates are
+// welded into one vertex (first appearance decides the order) so the mesh has connectivity.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <unordered_map>
+
+#include "formats.h"
+#include "text_scanner.h"
+
+namespace scanmesh::detail {
+namespace {
+
+struct PointHash {
+  std::size_t operator()(const Vec3& p) const {
+    std::size_t h = 1469598103934665603ull;
+    for (int c = 0; c < 3; ++c) {
+      std::uint64_t bits;
+      const double v = p[c] == 0.0 ? 0.0 : p[c];  // -0 and +0 weld together
+      std::memcpy(&bits, &v, 8);
+      h = (h ^ bits) * 1099511628211ull;
+    }
+    return h;
+  }
+};
+
+class Welder {
+ public:
+  explicit Welder(Mesh& mesh) : mesh_(mesh) {}
+  int add(const Vec3& p) {
+    const Vec3 key(p[0] == 0.0 ? 0.0 : p[0], p[1] == 0.0 ? 0.0 : p[1], p[2] == 0.0 ? 0.0 : p[2]);
+    auto [it, inserted] = index_.try_emplace(key, static_cast<int>(mesh_.positions.size()));
+    if (inserted) mesh_.positions.push_back(p);
+    return it->second;
+  }
+
+ private:
+  Mesh& mesh_;
+  std::unordered_map<Vec3, int, PointHash> index_;
+};
+
+Mesh read_binary_stl(std::string_view data, const std::string& file, std::uint32_t n) {
+  Mesh mesh;
+  Welder weld(mesh);
+  mesh.faces.reserve(n);
+  for (std::uint32_t t = 0; t < n; ++t) {
+    const char* p = data.data() + 84 + 50 * static_cast<std::size_t>(t) + 12;
+    Face f;
+    for (int k = 0; k < 3; ++k) {
+      float xyz[3];
+      std::memcpy(xyz, p + 12 * k, 12);
+      f[k] = weld.add(Vec3(xyz[0], xyz[1], xyz[2]));
+    }
+    mesh.faces.push_back(f);
+  }
+  (void)file;
+  return mesh;
+}
+
+Mesh read_ascii_stl(std::string_view data, const std::string& file) {
+  Mesh mesh;
+  Welder weld(mesh);
+  TextScanner s(data, file);
+  if (s.any_token(false) != "solid") s.fail("not an STL file");
+  s.skip_line();
+  Face f{};
+  int corner = 0;
+  bool ended = false;
+  while (!s.at_end()) {
+    const std::string_view key = s.any_token(false);
+    if (key.empty()) break;
+    if (key == "vertex") {
+      double xyz[3];
+      for (double& c : xyz)
+        if (!s.parse_double(s.token(), c)) s.fail("vertex needs three numeric coordinates");
+      if (corner >= 3) s.fail("facet with more than three vertices");
+      f[corner++] = weld.add(Vec3(xyz[0], xyz[1], xyz[2]));
+    } else if (key == "endloop") {
+      if (corner != 3) s.fail("facet with " + std::to_string(corner) + " vertices; STL facets are triangles");
+      mesh.faces.push_back(f);
+      corner = 0;
+    } else if (key == "endsolid") {
+      ended = true;
+      break;
+    } else if (key != "facet" && key != "outer" && key != "endfacet" && key != "solid") {
+      s.fail("unexpected '" + std::string(key.substr(0, 20)) + "' in ASCII STL");
+    }
+    s.skip_line();
+  }
+  if (corner != 0 || !ended) s.fail("ASCII STL ends inside a facet or without 'endsolid' (truncated?)");
+  return mesh;
+}
+
+}  // namespace
+
+Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::string>& warnings) {
+  (void)warnings;
+  if (data.size() >= 84) {
+    std::uint32_t n;
+    std::memcpy(&n, data.data() + 80, 4);
+    if (84 + 50 * static_cast<std::uint64_t>(n) == data.size()) {
+      if (n == 0) throw InputError(file + ": binary STL contains no triangles");
+      return read_binary_stl(data, file, n);
+    }
+  }
+  std::size_t i = 0;
+  while (i < data.size() && (data[i] == ' ' || data[i] == '\t' || data[i] == '\r' || data[i] == '\n')) ++i;
+  if (data.substr(i, 5) == "solid") {
+    // Binary files may also start with "solid" in their header; only treat as text if it parses.
+    bool text = true;
+    for (char c : data.substr(0, std::min<std::size_t>(data.size(), 4096)))
+      if (static_cast<unsigned char>(c) < 9 || (static_cast<unsigned char>(c) > 13 && static_cast<unsigned char>(c) < 32)) text = false;
+    if (text) {
+      Mesh m = read_ascii_stl(data, file);
+      if (m.faces.empty()) throw InputError(file + ": ASCII STL contains no triangles");
+      return m;
+    }
+  }
+  if (data.size() >= 84) {
+    std::uint32_t n;
+    std::memcpy(&n, data.data() + 80, 4);
+    throw InputError(file + ": not a valid STL: as binary STL its header announces " + std::to_string(n) +
+                     " triangles (" + std::to_string(84 + 50 * static_cast<std::uint64_t>(n)) + " bytes) but the file has " +
+                     std::to_string(data.size()) + " bytes, and it is not ASCII STL ('solid ...')");
+  }
+  throw InputError(file + ": not a valid STL: too short for binary STL (" + std::to_string(data.size()) +
+                   " bytes) and not ASCII STL");
+}
+
+std::string write_stl(const Mesh& mesh, bool binary) {
+  std::string out;
+  if (binary) {
+    out.assign(80, ' ');
+    std::memcpy(out.data(), "binary STL written by scanmesh", 30);
+    const auto n = static_cast<std::uint32_t>(mesh.num_faces());
+    out.append(reinterpret_cast<const char*>(&n), 4);
+    out.reserve(84 + 50 * mesh.num_faces());
+    for (const Face& f : mesh.faces) {
+      const Vec3 nrm = (mesh.positions[f[1]] - mesh.positions[f[0]]).cross(mesh.positions[f[2]] - mesh.positions[f[0]]).normalized();
+      float buf[12];
+      for (int c = 0; c < 3; ++c) buf[c] = std::isfinite(nrm[c]) ? static_cast<float>(nrm[c]) : 0.0f;
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) buf[3 + 3 * k + c] = static_cast<float>(mesh.positions[f[k]][c]);
+      out.append(reinterpret_cast<const char*>(buf), 48);
+      out.append(2, '\0');
+    }
+    return out;
+  }
+  out = "solid scanmesh\n";
+  for (const Face& f : mesh.faces) {
+    Vec3 nrm = (mesh.positions[f[1]] - mesh.positions[f[0]]).cross(mesh.positions[f[2]] - mesh.positions[f[0]]).normalized();
+    if (!nrm.allFinite()) nrm.setZero();
+    out += "facet normal ";
+    for (int c = 0; c < 3; ++c) {
+      append_double(out, nrm[c]);
+      out += c < 2 ? ' ' : '\n';
+    }
+    out += " outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      out += "  vertex ";
+      for (int c = 0; c < 3; ++c) {
+        append_double(out, mesh.positions[f[k]][c]);
+        out += c < 2 ? ' ' : '\n';
+      }
+    }
+    out += " endloop\nendfacet\n";
+  }
+  out += "endsolid scanmesh\n";
+  return out;
+}
+
+}  // namespace scanmesh::detail

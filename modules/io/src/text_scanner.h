@@ -1,0 +1,110 @@
+#pragma once
+// A small, fast cursor over a text file held in memory, used by the OBJ, OFF, PLY and STL parsers.
+#include <charconv>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "scanmesh/errors.h"
+
+namespace scanmesh::detail {
+
+class TextScanner {
+ public:
+  TextScanner(std::string_view text, std::string file) : text_(text), file_(std::move(file)) {}
+
+  [[nodiscard]] bool at_end() const { return pos_ >= text_.size(); }
+  [[nodiscard]] std::size_t line() const { return line_; }
+  [[nodiscard]] std::size_t position() const { return pos_; }
+  [[nodiscard]] const std::string& file() const { return file_; }
+
+  /// Skips spaces and tabs (and '\r'), not newlines.
+  void skip_blanks() {
+    while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\r')) ++pos_;
+  }
+  /// Skips all whitespace including newlines, and '#' comments if `comments`.
+  void skip_space(bool comments) {
+    while (pos_ < text_.size()) {
+      const char c = text_[pos_];
+      if (c == '\n') {
+        ++line_;
+        ++pos_;
+      } else if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
+        ++pos_;
+      } else if (comments && c == '#') {
+        skip_line();
+      } else {
+        break;
+      }
+    }
+  }
+  /// Moves past the end of the current line.
+  void skip_line() {
+    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+    if (pos_ < text_.size()) {
+      ++pos_;
+      ++line_;
+    }
+  }
+  /// True if the rest of the current line is blank.
+  [[nodiscard]] bool at_line_end() {
+    skip_blanks();
+    return pos_ >= text_.size() || text_[pos_] == '\n' || text_[pos_] == '#';
+  }
+  /// Next whitespace-delimited token on the current line (empty at line end).
+  std::string_view token() {
+    skip_blanks();
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_])) ++pos_;
+    return text_.substr(start, pos_ - start);
+  }
+  /// Next token anywhere (crossing lines), empty at end of file.
+  std::string_view any_token(bool comments) {
+    skip_space(comments);
+    return token();
+  }
+
+  bool parse_double(std::string_view tok, double& out) const {
+    if (tok.empty()) return false;
+    const char* b = tok.data();
+    const char* e = b + tok.size();
+    if (*b == '+') ++b;
+    auto [p, ec] = std::from_chars(b, e, out);
+    if (ec == std::errc::result_out_of_range) return p == e;  // denormals/huge: from_chars leaves out set
+    return ec == std::errc() && p == e;
+  }
+  bool parse_int(std::string_view tok, long long& out) const {
+    if (tok.empty()) return false;
+    const char* b = tok.data();
+    const char* e = b + tok.size();
+    if (*b == '+') ++b;
+    auto [p, ec] = std::from_chars(b, e, out);
+    return ec == std::errc() && p == e;
+  }
+
+  /// Throws InputError "FILE:LINE: message".
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(file_ + ":" + std::to_string(line_) + ": " + message);
+  }
+
+ private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+  std::string_view text_;
+  std::string file_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 1;
+};
+
+/// Appends the shortest round-trip decimal form of v.
+inline void append_double(std::string& out, double v) {
+  char buf[32];
+  auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, p);
+}
+inline void append_int(std::string& out, long long v) {
+  char buf[24];
+  auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, p);
+}
+
+}  // namespace scanmesh::detail

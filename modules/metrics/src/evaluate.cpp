@@ -1,0 +1,177 @@
+#include "scanmesh/evaluate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "scanmesh/closest_point.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double triangle_quality(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  const double area = 0.5 * (b - a).cross(c - a).norm();
+  const double shortest = std::min({la, lb, lc});
+  if (!(area > 0.0) || !(shortest > 0.0)) return std::numeric_limits<double>::infinity();
+  const double circumradius = la * lb * lc / (4.0 * area);
+  return circumradius / shortest;
+}
+
+// Distances from every vertex of `from` to the surface `to`.
+std::vector<double> distances_to(const Mesh& from, const Mesh& to) {
+  ClosestPointIndex index(to);
+  std::vector<double> d(from.num_vertices());
+  const auto n = static_cast<long>(d.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long i = 0; i < n; ++i) d[i] = index.closest(from.positions[i]).distance;
+  return d;
+}
+
+bool is_closed(const TopologyStats& t) { return t.boundary_edges == 0 && t.nonmanifold_edges == 0 && t.faces > 0; }
+
+}  // namespace
+
+TopologyStats topology_stats(const Mesh& mesh) {
+  const Topology topo = build_topology(mesh);
+  TopologyStats s;
+  s.vertices = mesh.num_vertices();
+  s.faces = mesh.num_faces();
+  s.edges = topo.edges.size();
+  s.boundary_edges = topo.num_boundary_edges();
+  s.boundary_loops = topo.boundary_loops.size();
+  s.nonmanifold_edges = topo.num_nonmanifold_edges();
+  s.components = count_components(mesh, topo);
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) s.isolated_vertices += topo.vertex_faces.size(v) == 0 ? 1 : 0;
+  for (const Face& f : mesh.faces) {
+    double area = 0.0;
+    triangle_normal(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]], &area);
+    s.degenerate_faces += area > 0.0 ? 0 : 1;
+  }
+  return s;
+}
+
+double signed_volume(const Mesh& mesh) {
+  double v = 0.0;
+  for (const Face& f : mesh.faces)
+    v += mesh.positions[f[0]].dot(mesh.positions[f[1]].cross(mesh.positions[f[2]]));
+  return v / 6.0;
+}
+
+MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference) {
+  MeshMetrics m;
+  m.topology = topology_stats(mesh);
+  m.bbox_diagonal = bbox_diagonal(mesh.positions);
+  m.mean_edge_length = mean_edge_length(mesh, build_topology(mesh));
+
+  const auto nf = static_cast<long>(mesh.num_faces());
+  m.face_quality.resize(mesh.num_faces());
+#pragma omp parallel for schedule(static)
+  for (long f = 0; f < nf; ++f) {
+    const Face& t = mesh.faces[f];
+    m.face_quality[f] = triangle_quality(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+  }
+  std::size_t finite = 0;
+  for (double q : m.face_quality)
+    if (std::isfinite(q)) {
+      m.quality_mean += q;
+      m.quality_max = std::max(m.quality_max, q);
+      ++finite;
+    }
+  if (finite > 0) m.quality_mean /= static_cast<double>(finite);
+
+  if (reference == nullptr) return m;
+  m.has_reference = true;
+  FaceGeometry g, gr;
+  compute_face_geometry(mesh.positions, mesh.faces, g);
+  m.same_connectivity = reference->faces == mesh.faces;
+  if (m.same_connectivity) {
+    compute_face_geometry(reference->positions, reference->faces, gr);
+    m.face_angle_error.resize(mesh.num_faces());
+#pragma omp parallel for schedule(static)
+    for (long f = 0; f < nf; ++f) {
+      const double c = std::clamp(g.normals[f].dot(gr.normals[f]), -1.0, 1.0);
+      m.face_angle_error[f] = std::acos(c) * 180.0 / kPi;
+    }
+    for (double a : m.face_angle_error) {
+      m.msae_deg += a;
+      m.flipped_faces += a > 90.0 ? 1 : 0;
+    }
+    if (nf > 0) m.msae_deg /= static_cast<double>(nf);
+  }
+
+  m.vertex_distance = distances_to(mesh, *reference);
+  const Topology topo = build_topology(mesh);
+  double wsum = 0.0, wd2 = 0.0;
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+    double area = 0.0;
+    for (const int* f = topo.vertex_faces.begin(v); f != topo.vertex_faces.end(v); ++f) area += g.areas[*f];
+    const double d = m.vertex_distance[v];
+    wsum += area;
+    wd2 += area * d * d;
+    m.distance_mean += d;
+    m.distance_rms += d * d;
+    m.hausdorff_to_reference = std::max(m.hausdorff_to_reference, d);
+  }
+  const double nv = static_cast<double>(std::max<std::size_t>(1, mesh.num_vertices()));
+  m.distance_mean /= nv;
+  m.distance_rms = std::sqrt(m.distance_rms / nv);
+  m.ev = wsum > 0.0 ? std::sqrt(wd2 / wsum) : 0.0;
+  const double ref_diag = bbox_diagonal(reference->positions);
+  m.ev_relative = ref_diag > 0.0 ? m.ev / ref_diag : 0.0;
+  for (double d : distances_to(*reference, mesh)) m.hausdorff_from_reference = std::max(m.hausdorff_from_reference, d);
+  m.hausdorff = std::max(m.hausdorff_to_reference, m.hausdorff_from_reference);
+
+  const TopologyStats rt = topology_stats(*reference);
+  if (is_closed(m.topology) && is_closed(rt)) {
+    const double vr = signed_volume(*reference);
+    if (vr != 0.0) m.volume_change = (signed_volume(mesh) - vr) / vr;
+  }
+  return m;
+}
+
+std::string metrics_json(const MeshMetrics& m, int indent) {
+  std::ostringstream o;
+  o.precision(10);
+  const std::string pad(static_cast<std::size_t>(indent), ' ');
+  const std::string pad2 = pad + pad;
+  o << "{\n";
+  o << pad << "\"topology\": {\"vertices\": " << m.topology.vertices << ", \"faces\": " << m.topology.faces
+    << ", \"edges\": " << m.topology.edges << ", \"boundary_edges\": " << m.topology.boundary_edges
+    << ", \"boundary_loops\": " << m.topology.boundary_loops << ", \"nonmanifold_edges\": " << m.topology.nonmanifold_edges
+    << ", \"components\": " << m.topology.components << ", \"isolated_vertices\": " << m.topology.isolated_vertices
+    << ", \"degenerate_faces\": " << m.topology.degenerate_faces << "},\n";
+  o << pad << "\"bbox_diagonal\": " << m.bbox_diagonal << ",\n";
+  o << pad << "\"mean_edge_length\": " << m.mean_edge_length << ",\n";
+  o << pad << "\"quality_mean\": " << m.quality_mean << ",\n";
+  o << pad << "\"quality_max\": " << m.quality_max;
+  if (m.has_reference) {
+    o << ",\n" << pad << "\"reference\": {\n";
+    if (m.same_connectivity) {
+      o << pad2 << "\"msae_deg\": " << m.msae_deg << ",\n";
+      o << pad2 << "\"flipped_faces\": " << m.flipped_faces << ",\n";
+    } else {
+      o << pad2 << "\"msae_deg\": null,\n" << pad2 << "\"flipped_faces\": null,\n";
+    }
+    o << pad2 << "\"ev\": " << m.ev << ",\n";
+    o << pad2 << "\"ev_relative\": " << m.ev_relative << ",\n";
+    o << pad2 << "\"distance_mean\": " << m.distance_mean << ",\n";
+    o << pad2 << "\"distance_rms\": " << m.distance_rms << ",\n";
+    o << pad2 << "\"hausdorff_to_reference\": " << m.hausdorff_to_reference << ",\n";
+    o << pad2 << "\"hausdorff_from_reference\": " << m.hausdorff_from_reference << ",\n";
+    o << pad2 << "\"hausdorff\": " << m.hausdorff << ",\n";
+    o << pad2 << "\"volume_change\": ";
+    if (m.volume_change) o << *m.volume_change;
+    else o << "null";
+    o << "\n" << pad << "}";
+  }
+  o << "\n}\n";
+  return o.str();
+}
+
+}  // namespace scanmesh

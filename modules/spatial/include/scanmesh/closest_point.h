@@ -1,0 +1,36 @@
+#pragma once
+// Exact closest points on a triangle mesh, accelerated by a FLANN k-d tree over face centroids.
+#include <memory>
+#include <vector>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+/// Closest point on triangle (a, b, c) to p (exact, handles degenerate triangles).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// Answers "which point of the surface is closest to p" exactly. A query first takes the nearest face
+/// centroids for an upper bound d on the distance; every face that can be closer has its centroid within
+/// d + (that face's centroid-to-corner radius), so a radius search with d + max radius finds them all.
+class ClosestPointIndex {
+ public:
+  explicit ClosestPointIndex(const Mesh& surface);
+  ~ClosestPointIndex();
+  ClosestPointIndex(const ClosestPointIndex&) = delete;
+  ClosestPointIndex& operator=(const ClosestPointIndex&) = delete;
+
+  struct Hit {
+    double distance = 0.0;
+    int face = -1;
+    Vec3 point = Vec3::Zero();
+  };
+  /// Thread-safe (const).
+  [[nodiscard]] Hit closest(const Vec3& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace scanmesh

@@ -1,0 +1,50 @@
+#pragma once
+// The one place FLANN is included. An exact k-d tree (single tree, unlimited checks) over 3D points.
+#include <flann/flann.hpp>
+#include <vector>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh::detail {
+
+class PointTree {
+ public:
+  explicit PointTree(const std::vector<Vec3>& points)
+      : data_(points.empty() ? nullptr : const_cast<double*>(points.data()->data()), points.size(), 3),
+        index_(data_, flann::KDTreeSingleIndexParams(12)) {
+    if (!points.empty()) index_.buildIndex();
+  }
+
+  /// Indices within `radius` of q (unsorted).
+  void radius(const Vec3& q, double radius, std::vector<std::size_t>& out) const {
+    out.clear();
+    if (data_.rows == 0) return;
+    std::vector<std::vector<std::size_t>> idx(1);
+    std::vector<std::vector<double>> dist(1);
+    flann::Matrix<double> query(const_cast<double*>(q.data()), 1, 3);
+    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+    params.sorted = false;
+    index_.radiusSearch(query, idx, dist, static_cast<float>(radius * radius), params);
+    out.swap(idx[0]);
+  }
+
+  /// The k nearest indices to q, nearest first, with squared distances.
+  void knn(const Vec3& q, std::size_t k, std::vector<std::size_t>& idx_out, std::vector<double>& dist_out) const {
+    idx_out.clear();
+    dist_out.clear();
+    if (data_.rows == 0) return;
+    k = std::min<std::size_t>(k, data_.rows);
+    std::vector<std::vector<std::size_t>> idx(1);
+    std::vector<std::vector<double>> dist(1);
+    flann::Matrix<double> query(const_cast<double*>(q.data()), 1, 3);
+    index_.knnSearch(query, idx, dist, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED));
+    idx_out.swap(idx[0]);
+    dist_out.swap(dist[0]);
+  }
+
+ private:
+  flann::Matrix<double> data_;
+  mutable flann::Index<flann::L2_Simple<double>> index_;
+};
+
+}  // namespace scanmesh::detail

@@ -1,0 +1,74 @@
+#include "cli_common.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/mesh_io.h"
+
+namespace scanmesh::cli {
+
+bool parse(const std::vector<std::string>& args, const po::options_description& options,
+           const std::vector<std::string>& positional, po::variables_map& vm, const std::string& usage,
+           const std::string& details) {
+  po::options_description all;
+  all.add(options);
+  po::options_description hidden;
+  for (const auto& name : positional) hidden.add_options()(name.c_str(), po::value<std::string>());
+  hidden.add_options()("help,h", "show help");
+  all.add(hidden);
+  po::positional_options_description pos;
+  for (const auto& name : positional) pos.add(name.c_str(), 1);
+  try {
+    po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw UsageError(std::string(e.what()) + "\nusage: " + usage + "\n(see --help)");
+  }
+  if (vm.count("help") != 0U) {
+    std::cout << "usage: " << usage << "\n\n" << details << "\n" << options << "\n";
+    return false;
+  }
+  for (const auto& name : positional)
+    if (vm.count(name) == 0U) throw UsageError("missing " + name + "\nusage: " + usage + "\n(see --help)");
+  return true;
+}
+
+void check_output_path(const std::string& in, const std::string& out) {
+  if (!is_mesh_extension(lower_extension(out)))
+    throw UsageError("output '" + out + "': unknown mesh format '" + lower_extension(out) +
+                     "'; supported: .obj .off .ply .stl");
+  if (in == out || same_file(in, out))
+    throw UsageError("output '" + out + "' is the input file; scanmesh never overwrites its input");
+}
+
+Progress::Progress(std::string label, bool quiet)
+    : label_(std::move(label)), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
+
+void Progress::operator()(int done, int total) {
+  if (quiet_ || total <= 0) return;
+  const int percent = 100 * done / total;
+  if (tty_) {
+    if (percent == last_percent_) return;
+    const int width = 30;
+    const int filled = width * done / total;
+    std::fprintf(stderr, "\r%s [%.*s%*s] %3d%% (%d/%d)", label_.c_str(), filled, "==============================",
+                 width - filled, "", percent, done, total);
+    if (done == total) std::fputc('\n', stderr);
+  } else {
+    // Plain lines, one per quarter, for logs.
+    if (percent / 25 == last_percent_ / 25 && done != total) return;
+    std::fprintf(stderr, "%s: %d/%d\n", label_.c_str(), done, total);
+  }
+  last_percent_ = percent;
+}
+
+void print_warnings(const std::vector<std::string>& warnings, bool quiet) {
+  if (quiet) return;
+  for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
+}
+
+}  // namespace scanmesh::cli

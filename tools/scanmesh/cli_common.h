@@ -1,0 +1,42 @@
+#pragma once
+// Shared pieces of the scanmesh subcommands: option parsing, exit codes, progress, summaries.
+#include <boost/program_options.hpp>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace scanmesh::cli {
+
+namespace po = boost::program_options;
+
+enum ExitCode { kOk = 0, kBadInput = 1, kBadUsage = 2 };
+
+/// Parses `args` against `options` with the given positional names; prints help and returns false when
+/// --help was asked for. Throws UsageError for unknown/missing options.
+bool parse(const std::vector<std::string>& args, const po::options_description& options,
+           const std::vector<std::string>& positional, po::variables_map& vm, const std::string& usage,
+           const std::string& details);
+
+/// Throws UsageError unless `out` is a different file from `in` and has a known mesh extension.
+void check_output_path(const std::string& in, const std::string& out);
+
+/// Progress bar on a terminal, plain lines otherwise; silent with --quiet.
+class Progress {
+ public:
+  Progress(std::string label, bool quiet);
+  void operator()(int done, int total);
+
+ private:
+  std::string label_;
+  bool quiet_, tty_;
+  int last_percent_ = -1;
+};
+
+/// Prints warnings to stderr unless quiet.
+void print_warnings(const std::vector<std::string>& warnings, bool quiet);
+
+int run_denoise(const std::vector<std::string>& args);
+int run_noise(const std::vector<std::string>& args);
+int run_eval(const std::vector<std::string>& args);
+
+}  // namespace scanmesh::cli

@@ -1,0 +1,64 @@
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.h"
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/mesh_io.h"
+
+namespace scanmesh::cli {
+
+int run_eval(const std::vector<std::string>& args) {
+  po::options_description o("options");
+  o.add_options()
+    ("reference,r", po::value<std::string>(), "ground-truth mesh; MSAE and flips need the same faces as MESH")
+    ("json", po::value<std::string>(), "also write the metrics as JSON to this file")
+    ("quiet,q", po::bool_switch(), "print nothing but errors (use with --json)");
+  po::variables_map vm;
+  if (!parse(args, o, {"MESH"}, vm, "scanmesh eval MESH [--reference REF] [--json FILE]",
+             "Measures a mesh: triangle quality Q (circumradius / shortest edge; 0.577 is equilateral) and topology;\n"
+             "with a reference also MSAE (mean face-normal angle error, degrees), flipped faces (> 90 degrees),\n"
+             "E_v (area-weighted RMS distance of the vertices to the reference surface, absolute and relative to\n"
+             "the reference's bounding-box diagonal), Hausdorff distance both ways (at vertices) and the volume\n"
+             "change of closed meshes."))
+    return kOk;
+  const std::string path = vm["MESH"].as<std::string>();
+  const bool quiet = vm["quiet"].as<bool>();
+  if (vm.count("json")) {
+    const std::string json = vm["json"].as<std::string>();
+    if (json == path || same_file(json, path) || (vm.count("reference") && same_file(json, vm["reference"].as<std::string>())))
+      throw UsageError("--json '" + json + "' would overwrite an input");
+  }
+  std::vector<std::string> warnings;
+  const Mesh mesh = read_mesh(path, &warnings);
+  std::unique_ptr<Mesh> reference;
+  if (vm.count("reference")) reference = std::make_unique<Mesh>(read_mesh(vm["reference"].as<std::string>(), &warnings));
+  print_warnings(warnings, quiet);
+  if (reference && reference->num_faces() != mesh.num_faces() && !quiet)
+    std::cerr << "warning: the reference has " << reference->num_faces() << " faces and the mesh " << mesh.num_faces()
+              << "; MSAE and flips need the same faces and are not reported\n";
+  const MeshMetrics m = evaluate(mesh, reference.get());
+  if (!quiet) {
+    const auto& t = m.topology;
+    std::printf("mesh:       %s\n", path.c_str());
+    std::printf("topology:   %zu vertices, %zu faces, %zu boundary loops, %zu non-manifold edges, %zu components, %zu degenerate faces\n",
+                t.vertices, t.faces, t.boundary_loops, t.nonmanifold_edges, t.components, t.degenerate_faces);
+    std::printf("Q:          %.4f mean, %.4f max (0.577 = equilateral)\n", m.quality_mean, m.quality_max);
+    if (m.has_reference) {
+      if (m.same_connectivity) {
+        std::printf("MSAE:       %.4f deg\n", m.msae_deg);
+        std::printf("flips:      %zu faces > 90 deg\n", m.flipped_faces);
+      }
+      std::printf("E_v:        %.6g (%.4e x bbox diagonal)\n", m.ev, m.ev_relative);
+      std::printf("Hausdorff:  %.6g (to reference %.6g, from reference %.6g)\n", m.hausdorff, m.hausdorff_to_reference,
+                  m.hausdorff_from_reference);
+      if (m.volume_change) std::printf("volume:     %+.4f%% change\n", 100.0 * *m.volume_change);
+    }
+  }
+  if (vm.count("json")) write_file_atomically(vm["json"].as<std::string>(), metrics_json(m));
+  return kOk;
+}
+
+}  // namespace scanmesh::cli
