@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cmath>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/geometry.h"
@@ -56,6 +57,8 @@ void validate(const DenoiseOptions& o) {
   check(std::isfinite(o.decay) && o.decay >= 0.0 && o.decay <= 1.0, "decay must be in [0, 1]; got " + std::to_string(o.decay));
   check(std::isfinite(o.radius_factor) && o.radius_factor >= 0.5 && o.radius_factor <= 10.0,
         "radius_factor must be in [0.5, 10]; got " + std::to_string(o.radius_factor));
+  check(std::isfinite(o.boundary_window) && o.boundary_window >= 0.5 && o.boundary_window <= 10.0,
+        "boundary_window must be in [0.5, 10]; got " + std::to_string(o.boundary_window));
 }
 
 DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress) {
@@ -81,7 +84,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
   report.seconds_neighbourhoods += seconds_since(t0);
 
-  std::vector<Vec3> filtered, boundary_normals;
+  std::vector<Vec3> filtered;
   double lambda = options.lambda;
   for (int it = 0; it < options.iterations; ++it) {
     if (it > 0) compute_face_geometry(positions, mesh.faces, geometry);
@@ -93,13 +96,14 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     t0 = std::chrono::steady_clock::now();
     filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
     if (boundary)
-      filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.radius_factor,
-                              boundary_normals);
+      filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.radius_factor);
     report.seconds_filtering += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     update_vertices(positions, topology, geometry, filtered, lambda, boundary ? &curves : nullptr,
-                    boundary ? &boundary_normals : nullptr, updated);
+                    options.feature_aware_fidelity, updated);
     positions.swap(updated);
+    if (boundary)
+      smooth_boundary_curves(positions, curves, options.boundary_window);
     report.seconds_vertex_update += seconds_since(t0);
     lambda *= options.decay;
     ++report.iterations;

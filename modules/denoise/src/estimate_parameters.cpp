@@ -8,42 +8,111 @@
 #include "scanmesh/topology.h"
 
 namespace scanmesh {
+namespace {
+
+// Below this estimated noise (x mean edge length) a mesh is treated as clean.
+constexpr double kCleanNoiseLevel = 0.06;
+// Share of faces next to a sharp edge from which a mesh counts as having sharp features.
+constexpr double kFeatureFraction = 0.045;
+// Scales estimate_noise_level to the noise level's usual definition (see there).
+constexpr double kCalibration = 0.9;
+
+}  // namespace
 
 double estimate_noise_level(const Mesh& mesh) {
   const Topology topo = build_topology(mesh);
   const double edge = mean_edge_length(mesh, topo);
   if (!(edge > 0.0)) return 0.0;
+  FaceGeometry g;
+  compute_face_geometry(mesh.positions, mesh.faces, g);
+  const std::vector<Vec3> normals = vertex_normals(topo, g);
   const auto nv = static_cast<long>(mesh.num_vertices());
-  std::vector<double> d(mesh.num_vertices(), -1.0);
+  // Signed height of each vertex over the plane of its one-ring (normal = its vertex normal). Curvature
+  // makes these heights vary slowly over the surface, noise makes them jump from vertex to vertex, so
+  // the noise shows in the difference between a vertex's height and its neighbours' mean height.
+  std::vector<double> height(mesh.num_vertices(), 0.0);
+  std::vector<std::uint8_t> valid(mesh.num_vertices(), 0);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
     const int n = topo.vertex_vertices.size(i);
-    if (topo.boundary_vertex[i] || n < 4) continue;
+    if (topo.boundary_vertex[i] || n < 3 || normals[i].isZero()) continue;
     Vec3 mean = Vec3::Zero();
     for (const int* j = topo.vertex_vertices.begin(i); j != topo.vertex_vertices.end(i); ++j) mean += mesh.positions[*j];
     mean /= n;
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const int* j = topo.vertex_vertices.begin(i); j != topo.vertex_vertices.end(i); ++j) {
-      const Vec3 q = mesh.positions[*j] - mean;
-      cov += q * q.transpose();
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
-    const Vec3 normal = es.eigenvectors().col(0);
-    d[i] = std::abs(normal.dot(mesh.positions[i] - mean));
+    height[i] = normals[i].dot(mesh.positions[i] - mean);
+    valid[i] = 1;
   }
-  std::vector<double> valid;
-  for (double x : d)
-    if (x >= 0.0) valid.push_back(x);
-  if (valid.empty()) return 0.0;
-  std::nth_element(valid.begin(), valid.begin() + valid.size() / 2, valid.end());
-  // For Gaussian noise the median of |x| is 0.6745 sigma.
-  return valid[valid.size() / 2] / 0.6745 / edge;
+  std::vector<double> jump(mesh.num_vertices(), -1.0);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < nv; ++i) {
+    if (!valid[i]) continue;
+    double sum = 0.0;
+    int n = 0;
+    for (const int* j = topo.vertex_vertices.begin(i); j != topo.vertex_vertices.end(i); ++j)
+      if (valid[*j]) {
+        sum += height[*j];
+        ++n;
+      }
+    if (n >= 3) jump[i] = std::abs(height[i] - sum / n);
+  }
+  std::vector<double> values;
+  for (double x : jump)
+    if (x >= 0.0) values.push_back(x);
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  // Median of |x| is 0.6745 sigma for Gaussian x. kCalibration makes the estimate match the true level
+  // on average over the noisy meshes of the standard pairs (ratios 0.77 to 1.18 after calibration).
+  return kCalibration * values[values.size() / 2] / 0.6745 / edge;
+}
+
+double feature_fraction(const Mesh& mesh) {
+  // Pre-smooth a copy lightly so that noise does not look like features, then count the faces next to an
+  // edge whose dihedral angle exceeds 35 degrees.
+  Mesh copy = mesh;
+  DenoiseOptions o;
+  o.sigma_s = 0.55;
+  o.lambda = 0.3;
+  o.iterations = 20;
+  denoise(copy, o);
+  const Topology topo = build_topology(copy);
+  FaceGeometry g;
+  compute_face_geometry(copy.positions, copy.faces, g);
+  const double cos_limit = std::cos(35.0 * 3.14159265358979323846 / 180.0);
+  std::vector<std::uint8_t> sharp(copy.num_faces(), 0);
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    if (topo.edge_faces.size(e) != 2) continue;
+    const int f = topo.edge_faces.begin(e)[0], h = topo.edge_faces.begin(e)[1];
+    if (g.areas[f] > 0.0 && g.areas[h] > 0.0 && g.normals[f].dot(g.normals[h]) < cos_limit) sharp[f] = sharp[h] = 1;
+  }
+  std::size_t n = 0;
+  for (auto s : sharp) n += s;
+  return copy.num_faces() > 0 ? static_cast<double>(n) / static_cast<double>(copy.num_faces()) : 0.0;
 }
 
 AutoParameters estimate_parameters(const Mesh& mesh, const DenoiseOptions& base) {
   AutoParameters a;
   a.options = base;
   a.noise_level = estimate_noise_level(mesh);
+  a.feature_fraction = feature_fraction(mesh);
+  DenoiseOptions& o = a.options;
+  if (a.noise_level < kCleanNoiseLevel) {
+    // Already clean: a light touch that cannot do harm.
+    o.sigma_s = 0.45;
+    o.lambda = 0.05;
+    o.iterations = 5;
+  } else if (a.feature_fraction >= kFeatureFraction) {
+    // Sharp features (CAD parts, buildings, machined objects): Tukey stops diffusion across them, so
+    // many iterations remove noise on the flat and gently curved parts without rounding the edges.
+    // Strong noise spreads the normals further apart and needs a wider similarity kernel.
+    o.sigma_s = a.noise_level < 0.5 ? 0.55 : 0.8;
+    o.lambda = 0.3;
+    o.iterations = 150;
+  } else {
+    // Smooth, organic shapes: a wide similarity kernel and few iterations; more would flatten detail.
+    o.sigma_s = 0.9;
+    o.lambda = 0.05;
+    o.iterations = 20;
+  }
   return a;
 }
 

@@ -1,5 +1,8 @@
 #include "scanmesh/vertex_update.h"
 
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "scanmesh/normal_filtering.h"
@@ -22,6 +25,9 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
           return *f;
     return -1;
   };
+  // Boundary vertices the loops do not describe (irregular ones) are treated as corners.
+  c.corner.assign(nv, 0);
+  for (std::size_t v = 0; v < nv; ++v) c.corner[v] = topology.boundary_vertex[v];
   for (std::size_t l = 0; l < topology.boundary_loops.size(); ++l) {
     const auto& loop = topology.boundary_loops[l];
     const bool closed = topology.boundary_loop_closed[l] != 0;
@@ -52,13 +58,42 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
         c.next[loop[k]] = loop[(k + 1) % n];
       }
     }
+    // Corners of the input boundary: the turning angle between the chords to the vertices three steps
+    // back and three steps ahead exceeds 50 degrees and is the largest within two steps. Three-edge
+    // chords keep noise of a fraction of an edge far from the threshold.
+    if (n >= 8) {
+      std::vector<double> turn(n, 0.0);
+      for (std::size_t k = 0; k < n; ++k) {
+        if (!closed && (k < 3 || k + 3 >= n)) continue;
+        const Vec3 back = mesh.positions[loop[k]] - mesh.positions[loop[(k + n - 3) % n]];
+        const Vec3 ahead = mesh.positions[loop[(k + 3) % n]] - mesh.positions[loop[k]];
+        const double lb = back.norm(), la = ahead.norm();
+        if (lb > 0.0 && la > 0.0) turn[k] = std::acos(std::clamp(back.dot(ahead) / (lb * la), -1.0, 1.0));
+      }
+      const double threshold = 50.0 * 3.14159265358979323846 / 180.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const int v = loop[k];
+        if (c.prev[v] < 0 || c.next[v] < 0) continue;
+        bool peak = turn[k] > threshold;
+        for (int d = -2; d <= 2 && peak; ++d) {
+          const long kk = static_cast<long>(k) + d;
+          if (d == 0 || (!closed && (kk < 0 || kk >= static_cast<long>(n)))) continue;
+          const double other = turn[(kk + static_cast<long>(n)) % static_cast<long>(n)];
+          peak = other < turn[k] || (other == turn[k] && d > 0);
+        }
+        c.corner[v] = peak ? 1 : 0;
+      }
+    } else {
+      for (int v : loop) c.corner[v] = 1;
+    }
   }
   return c;
 }
 
-void filter_boundary_normals(const std::vector<Vec3>& positions, const BoundaryCurves& curves,
+void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
                              const std::vector<Vec3>& filtered_face_normals, double sigma_s,
-                             RobustEstimator estimator, double radius_factor, std::vector<Vec3>& filtered) {
+                             RobustEstimator estimator, double radius_factor) {
+  std::vector<Vec3>& filtered = curves.normals;
   const std::size_t ne = curves.edges.size();
   std::vector<Vec3> m(ne), mid(ne);
   std::vector<double> len(ne);
@@ -119,7 +154,7 @@ void filter_boundary_normals(const std::vector<Vec3>& positions, const BoundaryC
 
 void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const FaceGeometry& geometry,
                      const std::vector<Vec3>& filtered_normals, double lambda, const BoundaryCurves* boundary,
-                     const std::vector<Vec3>* boundary_normals, std::vector<Vec3>& updated) {
+                     bool feature_aware, std::vector<Vec3>& updated) {
   const auto nv = static_cast<long>(positions.size());
   updated.resize(positions.size());
 #pragma omp parallel for schedule(static)
@@ -142,36 +177,28 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     const double nlen = vertex_normal.norm();
     if (nlen > 0.0) vertex_normal /= nlen;
 
-    Vec3 r = Vec3::Zero();
     const bool on_boundary = boundary != nullptr && topology.boundary_vertex[i] != 0;
-    if (!on_boundary) {
-      // D_i with w_ij = |v_i - v_j|^2, then R_i = D_i + tangential part of D_i.
-      Vec3 wsum = Vec3::Zero();
-      double w = 0.0;
-      for (const int* j = topology.vertex_vertices.begin(i); j != topology.vertex_vertices.end(i); ++j) {
-        const double wij = (positions[*j] - vi).squaredNorm();
-        wsum += wij * positions[*j];
-        w += wij;
-      }
-      if (w > 0.0) {
-        const Vec3 d = wsum / w - vi;
-        r = d + (d - d.dot(vertex_normal) * vertex_normal);
-      }
-    } else {
-      // Boundary vertex: fit the filtered boundary normals of its boundary edges (removes noise across
-      // the boundary curve without pulling it inwards) ...
-      const auto& slots = boundary->vertex_edges[i];
-      int count = 0;
+    if (on_boundary && boundary->corner[i]) {
+      // A corner of the boundary curve (or an irregular boundary vertex): too few curve neighbours on
+      // either side to fit a curve, so it fits its faces and the filtered normals of its boundary edges.
       Vec3 bfit = Vec3::Zero();
-      for (int e : slots) {
+      int count = 0;
+      for (int e : boundary->vertex_edges[i]) {
         if (e < 0) continue;
         const auto& edge = boundary->edges[e];
-        const Vec3& m = (*boundary_normals)[e];
+        const Vec3& m = boundary->normals[e];
         bfit += m * m.dot(0.5 * (positions[edge.a] + positions[edge.b]) - vi);
         ++count;
       }
-      if (count > 0) fit += bfit / static_cast<double>(count);
-      // ... and even out edge lengths along the boundary only (twice, like the tangential part inside).
+      updated[i] = vi + fit + (count > 0 ? Vec3(bfit / count) : Vec3::Zero());
+      continue;
+    }
+    if (on_boundary) {
+      // A boundary vertex sees faces on one side only: fitting it to their filtered normals (tilted
+      // towards the interior on curved surfaces) makes the boundary flare out, and its half-sized
+      // neighbourhood leaves it noisy. It is denoised as a point of its boundary curve instead
+      // (smooth_boundary_curves); here it only evens out its edges along the curve.
+      Vec3 r = Vec3::Zero();
       const int p = boundary->prev[i], q = boundary->next[i];
       if (p >= 0 && q >= 0) {
         const double wp = (positions[p] - vi).squaredNorm();
@@ -184,8 +211,115 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
           r = 2.0 * d.dot(tu) * tu;
         }
       }
+      updated[i] = vi + lambda * r;
+      continue;
+    }
+    // D_i with w_ij = |v_i - v_j|^2, then R_i = D_i + tangential part of D_i.
+    Vec3 r = Vec3::Zero();
+    Vec3 wsum = Vec3::Zero();
+    double w = 0.0;
+    for (const int* j = topology.vertex_vertices.begin(i); j != topology.vertex_vertices.end(i); ++j) {
+      const double wij = (positions[*j] - vi).squaredNorm();
+      wsum += wij * positions[*j];
+      w += wij;
+    }
+    if (w > 0.0) {
+      const Vec3 d = wsum / w - vi;
+      r = d + (d - d.dot(vertex_normal) * vertex_normal);
+      if (feature_aware) {
+        // Normal tensor of the filtered normals: one large eigenvalue on smooth parts, two along a
+        // sharp edge, three at a corner. On edges only the move along the edge is kept, at corners none,
+        // so the fidelity term evens out triangles without rounding features.
+        Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+        double area = 0.0;
+        for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
+          tensor += geometry.areas[*f] * filtered_normals[*f] * filtered_normals[*f].transpose();
+          area += geometry.areas[*f];
+        }
+        if (area > 0.0) {
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+          es.computeDirect(tensor / area);
+          const Vec3 ev = es.eigenvalues();  // ascending
+          constexpr double kFeature = 0.1;
+          if (ev[0] >= kFeature) {
+            r.setZero();
+          } else if (ev[1] >= kFeature) {
+            const Vec3 t = es.eigenvectors().col(0);
+            r = 2.0 * d.dot(t) * t;
+          }
+        }
+      }
     }
     updated[i] = vi + fit + lambda * r;
+  }
+}
+
+void smooth_boundary_curves(std::vector<Vec3>& positions, const BoundaryCurves& curves, double window) {
+  // Local quadratic least-squares fit of each loop as a function of arc length (a Savitzky-Golay filter):
+  // it removes noise along the curve but reproduces lines and circles, so nothing shrinks; a fit never
+  // reaches past a corner, and corners themselves are left to update_vertices.
+  const auto loops = static_cast<long>(curves.loop_edges.rows());
+  std::vector<std::vector<Vec3>> result(curves.loop_edges.rows());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long l = 0; l < loops; ++l) {
+    const int* edges = curves.loop_edges.begin(l);
+    const int ne = curves.loop_edges.size(l);
+    const bool closed = curves.loop_closed[l] != 0;
+    const int nv = closed ? ne : ne + 1;
+    if (ne < 3) continue;
+    std::vector<int> v(nv);
+    for (int k = 0; k < ne; ++k) {
+      v[k] = curves.edges[edges[k]].a;
+      if (!closed && k == ne - 1) v[k + 1] = curves.edges[edges[k]].b;
+    }
+    std::vector<double> seg(ne);
+    double total = 0.0;
+    for (int k = 0; k < ne; ++k) total += seg[k] = (positions[v[(k + 1) % nv]] - positions[v[k]]).norm();
+    const double sigma = window * total / ne;
+    auto& out = result[l];
+    out.resize(nv);
+    for (int i = 0; i < nv; ++i) {
+      out[i] = positions[v[i]];
+      if (curves.corner[v[i]] || !(sigma > 0.0)) continue;
+      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+      Eigen::Matrix3d b = Eigen::Matrix3d::Zero();  // columns: x, y, z right-hand sides
+      auto add = [&](int j, double s) {
+        const double w = std::exp(-s * s / (2.0 * sigma * sigma));
+        const double u = s / sigma;  // scaled for conditioning
+        const Eigen::Vector3d basis(1.0, u, u * u);
+        a += w * basis * basis.transpose();
+        b += w * basis * positions[v[j]].transpose();
+      };
+      add(i, 0.0);
+      for (int dir : {1, -1}) {
+        double s = 0.0;
+        int j = i;
+        for (int step = 1; step < nv / 2; ++step) {
+          const int next = j + dir;
+          if (!closed && (next < 0 || next >= nv)) break;
+          const int jn = (next + nv) % nv;
+          s += seg[dir > 0 ? j : jn];
+          if (s > 3.0 * sigma) break;
+          j = jn;
+          add(j, dir * s);
+          if (curves.corner[v[j]]) break;  // a corner ends the stretch the fit may use
+        }
+      }
+      // Needs support on both sides to be a fit rather than an extrapolation.
+      if (std::abs(a(0, 1)) > 0.5 * a(0, 0) || a(0, 0) < 2.0) continue;
+      Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
+      const Eigen::Matrix3d coeff = ldlt.solve(b);
+      const Vec3 fitted = coeff.row(0).transpose();
+      if (ldlt.info() == Eigen::Success && fitted.allFinite()) out[i] = fitted;
+    }
+  }
+  // Loops are disjoint, so writing back after all fits keeps the result independent of thread order.
+  for (long l = 0; l < loops; ++l) {
+    if (result[l].empty()) continue;
+    const int* edges = curves.loop_edges.begin(l);
+    const int ne = curves.loop_edges.size(l);
+    for (int k = 0; k < ne; ++k) positions[curves.edges[edges[k]].a] = result[l][k];
+    if (curves.loop_closed[l] == 0) positions[curves.edges[edges[ne - 1]].b] = result[l][ne];
   }
 }
 

@@ -44,10 +44,16 @@ struct DenoiseOptions {
   NeighbourhoodKind neighbourhood = NeighbourhoodKind::ball;
   /// Recompute the neighbourhoods from the moved centroids every iteration (slower; rarely matters).
   bool recompute_neighbourhoods = false;
-  /// Keep boundary vertices on the boundary: they move only along the surface normal and along the
-  /// boundary curve, following a robustly filtered boundary-curve normal. Off = the authors' behaviour,
-  /// where open boundaries shrink inwards.
+  /// Keep open boundaries in place: boundary vertices are denoised as points of their boundary curve
+  /// (robust local quadratic fit along the curve, which keeps lines, circles and corners) instead of
+  /// being fitted to one-sided face neighbourhoods. Off = the authors' behaviour, where open boundaries
+  /// creep inwards.
   bool keep_boundary = true;
+  /// With keep_boundary: width of the boundary curve fit, in mean boundary edge lengths (0.5 .. 10).
+  double boundary_window = 2.0;
+  /// Fidelity term R_i that does not round sharp edges and corners (beyond the paper): on a vertex
+  /// whose filtered normals span two directions it moves only along the edge, at three none.
+  bool feature_aware_fidelity = false;
 };
 
 /// What a denoising run did (for reports).

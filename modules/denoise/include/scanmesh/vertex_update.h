@@ -23,6 +23,8 @@ struct BoundaryCurves {
   std::vector<std::uint8_t> loop_closed;  ///< per loop
   std::vector<int> prev, next;            ///< per vertex: boundary neighbours (-1 if none/irregular)
   std::vector<std::array<int, 2>> vertex_edges;  ///< per vertex: incident loop edges (-1 if none)
+  std::vector<std::uint8_t> corner;  ///< per vertex: 1 where the input boundary turns by > 50 deg, or is irregular
+  std::vector<Vec3> normals;  ///< per edge: filtered in-surface outward normal (filter_boundary_normals)
 };
 
 BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology);
@@ -30,14 +32,21 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 /// Filters the in-surface outward normals m_e = normalize(edge x n~_face) of the boundary edges along
 /// each loop with the same robust bilateral weights as stage 1 (closeness on midpoint distance with
 /// sigma = mean boundary edge length, up to `radius_factor` of it).
-void filter_boundary_normals(const std::vector<Vec3>& positions, const BoundaryCurves& curves,
+void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
                              const std::vector<Vec3>& filtered_face_normals, double sigma_s,
-                             RobustEstimator estimator, double radius_factor, std::vector<Vec3>& filtered);
+                             RobustEstimator estimator, double radius_factor);
 
 /// One vertex-update step from `positions` into `updated`. With `boundary` non-null, boundary vertices
-/// fit the filtered boundary normals instead of being pulled inwards by the differential coordinate.
+/// only even out their edges along the boundary (their denoising is smooth_boundary_curves's job).
+/// With `feature_aware`, the fidelity term R_i acts only along sharp edges (not across them) and not at
+/// corners, judged from the normal tensor of the filtered normals around the vertex.
 void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const FaceGeometry& geometry,
                      const std::vector<Vec3>& filtered_normals, double lambda, const BoundaryCurves* boundary,
-                     const std::vector<Vec3>* boundary_normals, std::vector<Vec3>& updated);
+                     bool feature_aware, std::vector<Vec3>& updated);
+
+/// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
+/// width in mean boundary edge lengths) that reproduces lines and circles, so the boundary does not shrink,
+/// and does not smooth across corners (which stay for update_vertices).
+void smooth_boundary_curves(std::vector<Vec3>& positions, const BoundaryCurves& curves, double window);
 
 }  // namespace scanmesh

@@ -1,0 +1,157 @@
+// End-to-end tests of the scanmesh command line: exit codes, messages, no partial outputs,
+// inputs untouched, thread-count independence.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "scanmesh/atomic_file.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("scanmesh_cli_" + std::to_string(::getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& bytes) const {
+    std::ofstream(path(name), std::ios::binary) << bytes;
+    return path(name);
+  }
+  Result run(const std::string& args) const {
+    const std::string cmd = std::string(SCANMESH_BIN) + " " + args + " >" + path("stdout") + " 2>" + path("stderr") + " </dev/null";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = scanmesh::read_file(path("stdout"));
+    r.err = scanmesh::read_file(path("stderr"));
+    return r;
+  }
+  fs::path dir_;
+};
+
+const std::string kSample = std::string(SCANMESH_DATA_DIR) + "/fandisk-noisy.obj";
+const std::string kReference = std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj";
+
+}  // namespace
+
+TEST_F(Cli, BadInputsExitOneWithAMessageAndNoOutput) {
+  const std::string ply_header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n";
+  std::mt19937 rng(9);
+  std::string random_bytes(3000, '\0');
+  for (auto& c : random_bytes) c = static_cast<char>(rng());
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"empty.obj", ""},
+      {"empty.off", ""},
+      {"empty.ply", ""},
+      {"truncated.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2"},
+      {"truncated.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"},
+      {"truncated.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\nabc"},
+      {"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"},
+      {"nan.off", "OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n"},
+      {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"},
+      {"range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"},
+      {"noyz.ply", ply_header + "element face 0\nproperty list uchar int vertex_indices\nend_header\n0\n0\n0\n"},
+      {"random.stl", random_bytes},
+      {"none.stl", std::string(84, '\0')},
+      {"unknown.xyz9", "v 0 0 0\n"},
+  };
+  for (const auto& [name, bytes] : cases) {
+    const std::string in = write(name, bytes);
+    const std::string out = path("out_" + name + ".ply");
+    const Result r = run("denoise " + in + " " + out + " --iterations 2");
+    EXPECT_EQ(r.code, 1) << name << ": " << r.err;
+    EXPECT_NE(r.err.find(name), std::string::npos) << name << " not named in: " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one message expected: " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << name;
+    EXPECT_EQ(scanmesh::read_file(in), bytes) << name << " was modified";
+  }
+  const Result missing = run("denoise " + path("missing.obj") + " " + path("o.ply"));
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.err.find("missing.obj"), std::string::npos);
+  EXPECT_NE(missing.err.find("No such file"), std::string::npos);
+}
+
+TEST_F(Cli, BadUsageExitsTwo) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("frobnicate").code, 2);
+  EXPECT_EQ(run("denoise " + kSample).code, 2);
+  EXPECT_EQ(run("denoise " + kSample + " " + path("o.ply") + " --no-such-flag").code, 2);
+  Result r = run("denoise " + kSample + " " + path("o.ply") + " --sigma-s 5");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("sigma_s"), std::string::npos) << r.err;
+  r = run("denoise " + kSample + " " + path("o.ply") + " --estimator median");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("tukey"), std::string::npos) << r.err;
+  EXPECT_EQ(run("denoise " + kSample + " " + path("o.xyz9")).code, 2);
+  EXPECT_EQ(run("denoise " + kSample + " " + path("o.ply") + " --iterations ten").code, 2);
+  EXPECT_FALSE(fs::exists(path("o.ply")));
+  // The output may never be the input.
+  const std::string copy = path("copy.obj");
+  fs::copy_file(kSample, copy);
+  r = run("denoise " + copy + " " + copy);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("input"), std::string::npos);
+  EXPECT_EQ(scanmesh::read_file(copy), scanmesh::read_file(kSample));
+}
+
+TEST_F(Cli, ThreadCountDoesNotChangeTheOutput) {
+  const Result one = run("denoise " + kSample + " " + path("t1.ply") + " --iterations 20 --threads 1 -q");
+  const Result two = run("denoise " + kSample + " " + path("t2.ply") + " --iterations 20 --threads 2 -q");
+  ASSERT_EQ(one.code, 0) << one.err;
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_EQ(scanmesh::read_file(path("t1.ply")), scanmesh::read_file(path("t2.ply")));
+  const Result a1 = run("denoise " + kSample + " " + path("a1.obj") + " --auto --iterations 5 --threads 1 -q");
+  const Result a2 = run("denoise " + kSample + " " + path("a2.obj") + " --auto --iterations 5 --threads 2 -q");
+  ASSERT_EQ(a1.code, 0) << a1.err;
+  EXPECT_EQ(scanmesh::read_file(path("a1.obj")), scanmesh::read_file(path("a2.obj")));
+}
+
+TEST_F(Cli, DenoiseThenEvalImprovesTheSample) {
+  const std::string before = scanmesh::read_file(kSample);
+  Result r = run("denoise " + kSample + " " + path("d.obj") + " --iterations 30");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("[done"), std::string::npos);
+  EXPECT_EQ(scanmesh::read_file(kSample), before);
+  r = run("eval " + path("d.obj") + " --reference " + kReference + " --json " + path("m.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("MSAE"), std::string::npos);
+  const std::string json = scanmesh::read_file(path("m.json"));
+  const auto pos = json.find("\"msae_deg\": ");
+  ASSERT_NE(pos, std::string::npos);
+  EXPECT_LT(std::stod(json.substr(pos + 12)), 5.0);  // the noisy input is at 28 degrees
+}
+
+TEST_F(Cli, NoiseIsSeeded) {
+  ASSERT_EQ(run("noise " + kReference + " " + path("n1.ply") + " --level 0.3 --seed 4").code, 0);
+  ASSERT_EQ(run("noise " + kReference + " " + path("n2.ply") + " --level 0.3 --seed 4").code, 0);
+  ASSERT_EQ(run("noise " + kReference + " " + path("n3.ply") + " --level 0.3 --seed 5").code, 0);
+  EXPECT_EQ(scanmesh::read_file(path("n1.ply")), scanmesh::read_file(path("n2.ply")));
+  EXPECT_NE(scanmesh::read_file(path("n1.ply")), scanmesh::read_file(path("n3.ply")));
+  EXPECT_EQ(run("noise " + kReference + " " + path("n4.ply") + " --kind pink").code, 2);
+}
+
+TEST_F(Cli, HelpExplainsEveryParameter) {
+  const Result r = run("denoise --help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* word : {"--sigma-s", "--lambda", "--iterations", "--auto", "--threads", "--estimator",
+                           "--neighbourhood", "--radius-factor", "--decay"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word;
+  EXPECT_EQ(run("eval --help").code, 0);
+  EXPECT_EQ(run("noise --help").code, 0);
+}

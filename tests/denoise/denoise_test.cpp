@@ -1,0 +1,267 @@
+#include "scanmesh/denoise.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "helpers.h"
+#include "scanmesh/add_noise.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/parallel.h"
+#include "scanmesh/topology.h"
+
+using namespace scanmesh;
+
+namespace {
+
+double max_displacement(const Mesh& a, const Mesh& b) {
+  double d = 0.0;
+  for (std::size_t v = 0; v < a.num_vertices(); ++v) d = std::max(d, (a.positions[v] - b.positions[v]).norm());
+  return d;
+}
+
+bool all_finite(const Mesh& m) {
+  for (const auto& p : m.positions)
+    if (!p.allFinite()) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST(Denoise, CleanPlaneIsAFixedPoint) {
+  const Mesh clean = test::make_grid(12, 0.1);
+  Mesh m = clean;
+  denoise(m, DenoiseOptions{});
+  EXPECT_LT(max_displacement(m, clean), 1e-12);
+}
+
+TEST(Denoise, CleanCubeStaysACube) {
+  const Mesh clean = test::make_cube(8);
+  // The paper's fidelity term R_i pulls corners and edges inwards a little while lambda decays.
+  Mesh m = clean;
+  denoise(m, DenoiseOptions{});
+  MeshMetrics r = evaluate(m, &clean);
+  EXPECT_LT(r.hausdorff, 0.4 * r.mean_edge_length);
+  EXPECT_EQ(r.flipped_faces, 0u);
+  // The feature-aware fidelity term keeps a clean cube exactly.
+  m = clean;
+  DenoiseOptions o;
+  o.feature_aware_fidelity = true;
+  denoise(m, o);
+  r = evaluate(m, &clean);
+  EXPECT_LT(r.hausdorff, 1e-12);
+  EXPECT_LT(r.msae_deg, 1e-9);
+}
+
+TEST(Denoise, CleanSphereMovesLittle) {
+  const Mesh clean = test::make_sphere(3);
+  Mesh m = clean;
+  denoise(m, DenoiseOptions{});
+  const MeshMetrics r = evaluate(m, &clean);
+  EXPECT_LT(r.hausdorff, 0.1 * r.mean_edge_length);
+  EXPECT_LT(r.msae_deg, 1.0);
+  EXPECT_LT(std::abs(*r.volume_change), 0.02);
+}
+
+TEST(Denoise, NoisyPlaneBecomesFlatAndKeepsItsBoundary) {
+  const Mesh clean = test::make_grid(20, 0.05);
+  Mesh m = clean;
+  test::jitter_z(m, 0.3 * 0.05, 4);
+  const Topology t = build_topology(clean);
+  auto rms_z = [&t](const Mesh& x) {  // over interior vertices
+    double s = 0.0;
+    std::size_t n = 0;
+    for (std::size_t v = 0; v < x.num_vertices(); ++v)
+      if (!t.boundary_vertex[v]) {
+        s += x.positions[v].z() * x.positions[v].z();
+        ++n;
+      }
+    return std::sqrt(s / static_cast<double>(n));
+  };
+  const double before = rms_z(m);
+  denoise(m, DenoiseOptions{});
+  const double after = rms_z(m);
+  EXPECT_LT(after, before / 4.0) << "before " << before << " after " << after;
+  // Boundary vertices stay on the square's sides (x or y at 0 or 1) to a small fraction of an edge.
+  for (std::size_t v = 0; v < clean.num_vertices(); ++v) {
+    if (!t.boundary_vertex[v]) continue;
+    const Vec3& c = clean.positions[v];
+    const Vec3& p = m.positions[v];
+    if (c.x() == 0.0 || c.x() == 1.0) {
+      EXPECT_NEAR(p.x(), c.x(), 0.05 * 0.05) << v;
+    }
+    if (c.y() == 0.0 || c.y() == 1.0) {
+      EXPECT_NEAR(p.y(), c.y(), 0.05 * 0.05) << v;
+    }
+  }
+}
+
+TEST(Denoise, OpenBoundaryStaysInPlace) {
+  // A spherical cap with noise: with boundary handling the boundary loop keeps its length and its
+  // vertices end up about as close to the clean surface as the interior ones; without, it creeps inwards.
+  const Mesh cap = test::make_cap(14, 90, 1.2);
+  Mesh noisy = cap;
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(noisy, n);
+  const Topology t = build_topology(cap);
+  ASSERT_EQ(t.boundary_loops.size(), 1u);
+  auto loop_length = [&](const Mesh& m) {
+    const auto& loop = t.boundary_loops[0];
+    double l = 0.0;
+    for (std::size_t k = 0; k < loop.size(); ++k) l += (m.positions[loop[(k + 1) % loop.size()]] - m.positions[loop[k]]).norm();
+    return l;
+  };
+  auto boundary_to_interior = [&](const Mesh& m) {
+    const MeshMetrics r = evaluate(m, &cap);
+    double b = 0.0, i = 0.0;
+    std::size_t nb = 0, ni = 0;
+    for (std::size_t v = 0; v < m.num_vertices(); ++v) (t.boundary_vertex[v] ? b : i) += r.vertex_distance[v], ++(t.boundary_vertex[v] ? nb : ni);
+    return (b / nb) / (i / ni);
+  };
+  Mesh kept = noisy, free = noisy;
+  DenoiseOptions o;
+  denoise(kept, o);
+  o.keep_boundary = false;
+  denoise(free, o);
+  const double clean_length = loop_length(cap);
+  EXPECT_LT(std::abs(loop_length(kept) / clean_length - 1.0), 0.01);
+  EXPECT_LT(boundary_to_interior(kept), 2.0);
+  // Without boundary handling the boundary vertices slide up the surface: their z grows.
+  double z_kept = 0.0, z_free = 0.0;
+  for (std::size_t v = 0; v < cap.num_vertices(); ++v)
+    if (t.boundary_vertex[v]) {
+      z_kept += kept.positions[v].z() - cap.positions[v].z();
+      z_free += free.positions[v].z() - cap.positions[v].z();
+    }
+  EXPECT_LT(std::abs(z_kept), 0.5 * z_free);
+}
+
+TEST(Denoise, NoisyCubeKeepsEdgesAndCorners) {
+  const Mesh clean = test::make_cube(10);
+  Mesh m = clean;
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(m, n);
+  const double noisy_msae = evaluate(m, &clean).msae_deg;
+  denoise(m, DenoiseOptions{});
+  const MeshMetrics r = evaluate(m, &clean);
+  EXPECT_GT(noisy_msae, 10.0);
+  EXPECT_LT(r.msae_deg, 3.0) << "noisy " << noisy_msae;
+  EXPECT_EQ(r.flipped_faces, 0u);
+  // The eight corners stay sharp and in place.
+  for (std::size_t v = 0; v < clean.num_vertices(); ++v) {
+    const Vec3& c = clean.positions[v];
+    const bool corner = (c.array() == 0.0 || c.array() == 1.0).all();
+    if (corner) {
+      EXPECT_LT((m.positions[v] - c).norm(), 0.6 * r.mean_edge_length) << "corner " << v;
+    }
+  }
+  // Faces on the two sides of a cube edge stay at 90 degrees: mean error of faces touching an edge is small.
+  double edge_err = 0.0;
+  std::size_t edge_faces = 0;
+  for (std::size_t f = 0; f < clean.num_faces(); ++f) {
+    int on_edge = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = clean.positions[clean.faces[f][k]];
+      on_edge += ((p.array() == 0.0 || p.array() == 1.0).count() >= 2) ? 1 : 0;
+    }
+    if (on_edge >= 2) {
+      edge_err += r.face_angle_error[f];
+      ++edge_faces;
+    }
+  }
+  EXPECT_LT(edge_err / static_cast<double>(edge_faces), 5.0);
+  EXPECT_LT(std::abs(*r.volume_change), 0.03);
+}
+
+TEST(Denoise, OneAndTwoThreadsGiveIdenticalResults) {
+  Mesh noisy = test::make_sphere(4);
+  NoiseOptions n;
+  n.level = 0.4;
+  add_noise(noisy, n);
+  for (auto estimator : {RobustEstimator::tukey, RobustEstimator::gaussian, RobustEstimator::huber, RobustEstimator::lorentzian})
+    for (auto kind : {NeighbourhoodKind::ball, NeighbourhoodKind::connected_ball}) {
+      DenoiseOptions o;
+      o.iterations = 10;
+      o.estimator = estimator;
+      o.neighbourhood = kind;
+      o.recompute_neighbourhoods = kind == NeighbourhoodKind::connected_ball;
+      Mesh a = noisy, b = noisy;
+      set_thread_count(1);
+      denoise(a, o);
+      set_thread_count(2);
+      denoise(b, o);
+      set_thread_count(0);
+      ASSERT_EQ(a.positions.size(), b.positions.size());
+      EXPECT_EQ(std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3)), 0)
+          << to_string(estimator) << " " << to_string(kind);
+      EXPECT_NE(a.positions, noisy.positions);
+    }
+}
+
+TEST(Denoise, MessyInputStaysFinite) {
+  // Two components, a non-manifold fin, a degenerate face, an isolated vertex and a duplicated face.
+  Mesh m = test::make_grid(6, 0.2);
+  const int base = static_cast<int>(m.num_vertices());
+  Mesh other = test::make_cube(3);
+  for (auto p : other.positions) m.positions.push_back(p + Vec3(3, 0, 0));
+  for (auto f : other.faces) m.faces.push_back({f[0] + base, f[1] + base, f[2] + base});
+  m.positions.push_back(Vec3(0.2, 0.0, 0.5));  // fin on grid edge 0-1
+  m.faces.push_back({0, 1, static_cast<int>(m.num_vertices()) - 1});
+  m.faces.push_back({2, 2, 3});                  // degenerate
+  m.positions.push_back(Vec3(1, 0, 0));          // collinear with 0..: degenerate by area
+  m.faces.push_back({0, 3, static_cast<int>(m.num_vertices()) - 1});
+  m.positions.push_back(Vec3(7, 7, 7));          // isolated
+  m.faces.push_back(m.faces[0]);                 // duplicate
+  NoiseOptions n;
+  n.level = 0.2;
+  add_noise(m, n);
+  const Vec3 isolated = m.positions.back();
+  for (auto kind : {NeighbourhoodKind::ball, NeighbourhoodKind::connected_ball}) {
+    Mesh a = m;
+    DenoiseOptions o;
+    o.neighbourhood = kind;
+    EXPECT_NO_THROW(denoise(a, o));
+    EXPECT_TRUE(all_finite(a));
+    EXPECT_EQ(a.positions.back(), isolated);
+  }
+  // Every face degenerate: nothing to do, nothing breaks.
+  Mesh flat;
+  flat.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  flat.faces = {{0, 1, 2}};
+  EXPECT_NO_THROW(denoise(flat, DenoiseOptions{}));
+  EXPECT_TRUE(all_finite(flat));
+}
+
+TEST(Denoise, StoredNormalsAreRecomputed) {
+  Mesh m = test::make_grid(4, 0.25);
+  test::jitter_z(m, 0.05, 1);
+  VertexProperty nx{"nx", ScalarType::float32, std::vector<double>(m.num_vertices(), 1.0)};
+  VertexProperty ny{"ny", ScalarType::float32, std::vector<double>(m.num_vertices(), 0.0)};
+  VertexProperty nz{"nz", ScalarType::float32, std::vector<double>(m.num_vertices(), 0.0)};
+  m.vertex_properties = {nx, ny, nz};
+  denoise(m, DenoiseOptions{});
+  for (std::size_t v = 0; v < m.num_vertices(); ++v) EXPECT_GT(m.vertex_properties[2].values[v], 0.9) << v;
+}
+
+TEST(Denoise, RejectsBadOptions) {
+  Mesh m = test::make_grid(2);
+  DenoiseOptions o;
+  o.sigma_s = 0.0;
+  EXPECT_THROW(denoise(m, o), UsageError);
+  o = {};
+  o.lambda = -0.1;
+  EXPECT_THROW(denoise(m, o), UsageError);
+  o = {};
+  o.iterations = -1;
+  EXPECT_THROW(denoise(m, o), UsageError);
+  o = {};
+  o.sigma_s = std::nan("");
+  EXPECT_THROW(denoise(m, o), UsageError);
+  EXPECT_THROW(parse_estimator("median"), UsageError);
+  EXPECT_THROW(parse_neighbourhood("cube"), UsageError);
+}

@@ -1,0 +1,60 @@
+#include "scanmesh/normal_filtering.h"
+
+#include <gtest/gtest.h>
+
+#include "helpers.h"
+
+using namespace scanmesh;
+
+TEST(NormalFiltering, RobustWeights) {
+  EXPECT_DOUBLE_EQ(robust_weight(RobustEstimator::tukey, 0.0, 0.5), 0.5);
+  EXPECT_DOUBLE_EQ(robust_weight(RobustEstimator::tukey, 0.25, 0.5), 0.5 * 0.75 * 0.75);
+  EXPECT_DOUBLE_EQ(robust_weight(RobustEstimator::tukey, 0.51, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(robust_weight(RobustEstimator::gaussian, 0.5, 0.5), std::exp(-0.5));
+  EXPECT_DOUBLE_EQ(robust_weight(RobustEstimator::huber, 1.0, 0.5), 0.5);
+  EXPECT_DOUBLE_EQ(robust_weight(RobustEstimator::lorentzian, 0.5, 0.5), 1.0 / 1.5);
+}
+
+TEST(NormalFiltering, TukeyDoesNotMixAcrossARightAngle) {
+  // Cube edges: |n_i - n_j| = sqrt(2) > sigma_s, so filtered normals of a clean cube are exact.
+  const Mesh cube = test::make_cube(4);
+  const Topology t = build_topology(cube);
+  FaceGeometry g;
+  compute_face_geometry(cube.positions, cube.faces, g);
+  const double ca = mean_centroid_distance(cube, t, g);
+  const Adjacency nbh = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::ball);
+  std::vector<Vec3> filtered;
+  filter_face_normals(g, nbh, ca, 0.5, RobustEstimator::tukey, filtered);
+  for (std::size_t f = 0; f < cube.num_faces(); ++f) EXPECT_LT((filtered[f] - g.normals[f]).norm(), 1e-12);
+  // A Gaussian kernel with a wide sigma does mix them.
+  filter_face_normals(g, nbh, ca, 2.0, RobustEstimator::gaussian, filtered);
+  double mixed = 0.0;
+  for (std::size_t f = 0; f < cube.num_faces(); ++f) mixed = std::max(mixed, (filtered[f] - g.normals[f]).norm());
+  EXPECT_GT(mixed, 0.1);
+}
+
+TEST(NormalFiltering, ConnectedBallIsASubsetOfTheBall) {
+  // Two parallel sheets 0.05 apart: the ball mixes them, the connected ball does not.
+  Mesh m = test::make_grid(6, 0.1);
+  const int n = static_cast<int>(m.num_vertices());
+  Mesh top = test::make_grid(6, 0.1);
+  for (auto p : top.positions) m.positions.push_back(p + Vec3(0, 0, 0.05));
+  for (auto f : top.faces) m.faces.push_back({f[0] + n, f[2] + n, f[1] + n});
+  const Topology t = build_topology(m);
+  FaceGeometry g;
+  compute_face_geometry(m.positions, m.faces, g);
+  const double ca = mean_centroid_distance(m, t, g);
+  const Adjacency ball = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::ball);
+  const Adjacency conn = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::connected_ball);
+  const std::size_t half = m.num_faces() / 2;
+  std::size_t crossing_ball = 0, crossing_conn = 0;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    for (const int* j = ball.begin(f); j != ball.end(f); ++j) crossing_ball += (static_cast<std::size_t>(*j) < half) != (f < half);
+    for (const int* j = conn.begin(f); j != conn.end(f); ++j) {
+      crossing_conn += (static_cast<std::size_t>(*j) < half) != (f < half);
+      EXPECT_TRUE(std::binary_search(ball.begin(f), ball.end(f), *j));
+    }
+  }
+  EXPECT_GT(crossing_ball, 0u);
+  EXPECT_EQ(crossing_conn, 0u);
+}

@@ -1,0 +1,119 @@
+#pragma once
+// Tiny meshes built in code for the tests.
+#include <cmath>
+#include <map>
+#include <random>
+#include <tuple>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh::test {
+
+/// n x n quads of size h in the z = 0 plane, each split into two triangles (normals +z).
+inline Mesh make_grid(int n, double h = 1.0) {
+  Mesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.positions.emplace_back(i * h, j * h, 0.0);
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+/// Closed axis-aligned cube [0,1]^3 with n x n quads per side (two triangles each), outward normals.
+inline Mesh make_cube(int n) {
+  Mesh m;
+  std::map<std::tuple<long, long, long>, int> index;
+  auto vertex = [&](const Vec3& p) {
+    const auto key = std::make_tuple(std::lround(p.x() * n), std::lround(p.y() * n), std::lround(p.z() * n));
+    auto [it, inserted] = index.try_emplace(key, static_cast<int>(m.positions.size()));
+    if (inserted) m.positions.push_back(p);
+    return it->second;
+  };
+  // Each side: origin o, in-plane axes u, v with u x v pointing outwards.
+  const Vec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1), O(0, 0, 0);
+  const std::array<std::array<Vec3, 3>, 6> sides = {{{O, Y, X}, {Z, X, Y}, {O, X, Z}, {Y, Z, X}, {O, Z, Y}, {X, Y, Z}}};
+  for (const auto& [o, u, v] : sides)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        auto p = [&](int a, int b) { return vertex(o + u * (double(a) / n) + v * (double(b) / n)); };
+        const int a = p(i, j), b = p(i + 1, j), c = p(i + 1, j + 1), d = p(i, j + 1);
+        m.faces.push_back({a, b, c});
+        m.faces.push_back({a, c, d});
+      }
+  return m;
+}
+
+/// Unit icosphere with `levels` subdivisions (20 * 4^levels faces).
+inline Mesh make_sphere(int levels) {
+  Mesh m;
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  for (const auto& p : {Vec3(-1, t, 0), Vec3(1, t, 0), Vec3(-1, -t, 0), Vec3(1, -t, 0), Vec3(0, -1, t), Vec3(0, 1, t),
+                        Vec3(0, -1, -t), Vec3(0, 1, -t), Vec3(t, 0, -1), Vec3(t, 0, 1), Vec3(-t, 0, -1), Vec3(-t, 0, 1)})
+    m.positions.push_back(p.normalized());
+  m.faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+             {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto [it, inserted] = mid.try_emplace(key, static_cast<int>(m.positions.size()));
+      if (inserted) m.positions.push_back((m.positions[a] + m.positions[b]).normalized());
+      return it->second;
+    };
+    std::vector<Face> faces;
+    for (const Face& f : m.faces) {
+      const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+      faces.push_back({f[0], a, c});
+      faces.push_back({f[1], b, a});
+      faces.push_back({f[2], c, b});
+      faces.push_back({a, b, c});
+    }
+    m.faces = std::move(faces);
+  }
+  return m;
+}
+
+/// Spherical cap of the unit sphere around +z up to polar angle `theta_max`, built from `rings` rings of
+/// `sectors` vertices plus the pole, so its boundary is a regular polygon (a circle's sampling).
+inline Mesh make_cap(int rings, int sectors, double theta_max) {
+  Mesh m;
+  m.positions.emplace_back(0, 0, 1);
+  for (int r = 1; r <= rings; ++r) {
+    const double theta = theta_max * r / rings;
+    for (int k = 0; k < sectors; ++k) {
+      const double phi = 2.0 * M_PI * (k + 0.5 * (r % 2)) / sectors;
+      m.positions.emplace_back(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    }
+  }
+  auto id = [sectors](int r, int k) { return 1 + (r - 1) * sectors + ((k % sectors) + sectors) % sectors; };
+  for (int k = 0; k < sectors; ++k) m.faces.push_back({0, id(1, k), id(1, k + 1)});
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < sectors; ++k) {
+      // Odd rings are rotated by half a sector; pick the diagonal that keeps triangles well shaped.
+      const int shift = r % 2;
+      m.faces.push_back({id(r, k), id(r + 1, k + 1 - shift), id(r, k + 1)});
+      m.faces.push_back({id(r + 1, k + 1 - shift), id(r, k), id(r + 1, k - shift)});
+    }
+  return m;
+}
+
+/// Regular tetrahedron, outward normals.
+inline Mesh make_tetrahedron() {
+  Mesh m;
+  m.positions = {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)};
+  m.faces = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+  return m;
+}
+
+/// Moves every vertex by N(0, sigma) along z (for planes) using a fixed seed.
+inline void jitter_z(Mesh& m, double sigma, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, sigma);
+  for (auto& p : m.positions) p.z() += n(rng);
+}
+
+}  // namespace scanmesh::test
