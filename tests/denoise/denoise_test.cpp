@@ -140,6 +140,30 @@ TEST(Denoise, OpenBoundaryStaysInPlace) {
   EXPECT_LT(std::abs(z_kept), 0.5 * z_free);
 }
 
+TEST(Denoise, JaggedScanBoundaryKeepsItsTriangles) {
+  // A range-scan-like patch whose boundary is a staircase: straightening it must not squash the
+  // triangles behind it (this once drove their shape ratio Q to 1e13).
+  Mesh grid = test::make_grid(24, 0.05);
+  Mesh m;
+  m.positions = grid.positions;
+  for (std::size_t f = 0; f < grid.faces.size(); f += 2) {
+    const Vec3& p = grid.positions[grid.faces[f][0]];
+    const int i = static_cast<int>(std::lround(p.x() / 0.05)), j = static_cast<int>(std::lround(p.y() / 0.05));
+    if (i + j < 30) {  // keep the quads below the diagonal: a staircase boundary
+      m.faces.push_back(grid.faces[f]);
+      m.faces.push_back(grid.faces[f + 1]);
+    }
+  }
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(m, n);
+  denoise(m, DenoiseOptions{});
+  const MeshMetrics r = evaluate(m, nullptr);
+  EXPECT_EQ(r.topology.degenerate_faces, 0u);
+  EXPECT_LT(r.quality_max, 10.0);
+  EXPECT_LT(r.quality_mean, 0.9);
+}
+
 TEST(Denoise, NoisyCubeKeepsEdgesAndCorners) {
   const Mesh clean = test::make_cube(10);
   Mesh m = clean;

@@ -103,7 +103,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
                     options.feature_aware_fidelity, updated);
     positions.swap(updated);
     if (boundary)
-      smooth_boundary_curves(positions, curves, options.boundary_window);
+      smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window);
     report.seconds_vertex_update += seconds_since(t0);
     lambda *= options.decay;
     ++report.iterations;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
+#include <cstdlib>
 
 #include "scanmesh/normal_filtering.h"
 
@@ -179,18 +181,9 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
 
     const bool on_boundary = boundary != nullptr && topology.boundary_vertex[i] != 0;
     if (on_boundary && boundary->corner[i]) {
-      // A corner of the boundary curve (or an irregular boundary vertex): too few curve neighbours on
-      // either side to fit a curve, so it fits its faces and the filtered normals of its boundary edges.
-      Vec3 bfit = Vec3::Zero();
-      int count = 0;
-      for (int e : boundary->vertex_edges[i]) {
-        if (e < 0) continue;
-        const auto& edge = boundary->edges[e];
-        const Vec3& m = boundary->normals[e];
-        bfit += m * m.dot(0.5 * (positions[edge.a] + positions[edge.b]) - vi);
-        ++count;
-      }
-      updated[i] = vi + fit + (count > 0 ? Vec3(bfit / count) : Vec3::Zero());
+      // A corner of the boundary curve (or an irregular boundary vertex) has too few curve neighbours to
+      // fit a curve: it follows its faces' filtered normals only.
+      updated[i] = vi + fit;
       continue;
     }
     if (on_boundary) {
@@ -254,7 +247,21 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
   }
 }
 
-void smooth_boundary_curves(std::vector<Vec3>& positions, const BoundaryCurves& curves, double window) {
+namespace {
+
+// Circumradius over shortest edge (1/sqrt(3) for an equilateral triangle; infinite when degenerate).
+double shape(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  const double area2 = (b - a).cross(c - a).norm();  // twice the area
+  const double shortest = std::min({la, lb, lc});
+  if (!(area2 > 0.0) || !(shortest > 0.0)) return std::numeric_limits<double>::infinity();
+  return la * lb * lc / (2.0 * area2) / shortest;
+}
+
+}  // namespace
+
+void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
+                            const BoundaryCurves& curves, double window) {
   // Local quadratic least-squares fit of each loop as a function of arc length (a Savitzky-Golay filter):
   // it removes noise along the curve but reproduces lines and circles, so nothing shrinks; a fit never
   // reaches past a corner, and corners themselves are left to update_vertices.
@@ -310,7 +317,29 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const BoundaryCurves& 
       Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
       const Eigen::Matrix3d coeff = ldlt.solve(b);
       const Vec3 fitted = coeff.row(0).transpose();
-      if (ldlt.info() == Eigen::Success && fitted.allFinite()) out[i] = fitted;
+      if (ldlt.info() != Eigen::Success || !fitted.allFinite()) continue;
+      // Move towards the fit, but shorten a move that would squash or fold one of the vertex's triangles
+      // (straightening a jagged scan boundary would otherwise flatten the triangles behind it).
+      const Vec3 start = positions[v[i]];
+      Vec3 move = fitted - start;
+      for (int attempt = 0; attempt < 4; ++attempt, move *= 0.5) {
+        bool ok = true;
+        for (const int* f = topology.vertex_faces.begin(v[i]); ok && f != topology.vertex_faces.end(v[i]); ++f) {
+          const Face& t = faces[*f];
+          Vec3 p[3];
+          for (int k = 0; k < 3; ++k) p[k] = t[k] == v[i] ? Vec3(start + move) : positions[t[k]];
+          const Vec3 before = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
+          const Vec3 after = (p[1] - p[0]).cross(p[2] - p[0]);
+          // The triangle may turn by less than 45 degrees, and its shape (circumradius / shortest edge)
+          // must stay below 1.5 or not get worse.
+          ok = after.dot(before) >= std::cos(0.7853981633974483) * after.norm() * before.norm() &&
+               shape(p[0], p[1], p[2]) <= std::max(1.5, shape(positions[t[0]], positions[t[1]], positions[t[2]]));
+        }
+        if (ok) {
+          out[i] = start + move;
+          break;
+        }
+      }
     }
   }
   // Loops are disjoint, so writing back after all fits keeps the result independent of thread order.

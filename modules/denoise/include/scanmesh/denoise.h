@@ -29,12 +29,12 @@ enum class NeighbourhoodKind {
 struct DenoiseOptions {
   /// Similarity kernel width sigma_s on |n_i - n_j| (range 0.05 .. 2). Smaller keeps more features but
   /// leaves more noise; larger smooths more and rounds sharp edges. CAD-like 0.3-0.6, organic 0.6-1.0.
-  double sigma_s = 0.45;
+  double sigma_s = 0.7;
   /// Fidelity/isotropic weight lambda_I (range 0 .. 1). Evens out triangles and stops flips under strong
   /// noise; too large shrinks and blurs. Multiplied by `decay` after every iteration.
   double lambda = 0.2;
   /// Number of iterations p (>= 1). More removes more noise; too many over-smooth organic shapes.
-  int iterations = 60;
+  int iterations = 100;
   /// lambda_I <- decay * lambda_I after every iteration (the paper: 0.6; the authors' code: 0.7).
   double decay = 0.6;
   /// Neighbourhood radius r = radius_factor * c_a, where c_a is the mean distance between centroids of
