@@ -28,6 +28,21 @@ class PointTree {
     out.swap(idx[0]);
   }
 
+  /// Indices within `radius` of every point of `queries` (rows unsorted), in one batched call that FLANN
+  /// spreads over `threads` threads; each row depends only on its query, so the result does not depend
+  /// on the thread count.
+  void radius_all(const std::vector<Vec3>& queries, double radius, int threads,
+                  std::vector<std::vector<std::size_t>>& out) const {
+    out.assign(queries.size(), {});
+    if (data_.rows == 0 || queries.empty()) return;
+    std::vector<std::vector<double>> dist;
+    flann::Matrix<double> q(const_cast<double*>(queries.data()->data()), queries.size(), 3);
+    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+    params.sorted = false;
+    params.cores = threads;
+    index_.radiusSearch(q, out, dist, static_cast<float>(radius * radius), params);
+  }
+
   /// The k nearest indices to q, nearest first, with squared distances.
   void knn(const Vec3& q, std::size_t k, std::vector<std::size_t>& idx_out, std::vector<double>& dist_out) const {
     idx_out.clear();

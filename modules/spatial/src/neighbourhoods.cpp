@@ -3,35 +3,36 @@
 #include <algorithm>
 
 #include "flann_index.h"
+#include "scanmesh/parallel.h"
 
 namespace scanmesh {
 
 Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius) {
   const auto n = static_cast<long>(points.size());
   detail::PointTree tree(points);
-  std::vector<std::vector<int>> rows(points.size());
+  // FLANN takes the squared radius as float; search a little wider and decide in double below.
+  std::vector<std::vector<std::size_t>> found;
+  tree.radius_all(points, radius * 1.001, thread_count(), found);
   const double r2 = radius * radius;
-#pragma omp parallel
-  {
-    std::vector<std::size_t> found;
-#pragma omp for schedule(dynamic, 256)
-    for (long i = 0; i < n; ++i) {
-      // FLANN takes the squared radius as float; search a little wider and decide in double.
-      tree.radius(points[i], radius * 1.001, found);
-      auto& row = rows[i];
-      row.clear();
-      for (std::size_t j : found)
-        if ((points[j] - points[i]).squaredNorm() <= r2) row.push_back(static_cast<int>(j));
-      std::sort(row.begin(), row.end());
-    }
+  std::vector<int> counts(points.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (long i = 0; i < n; ++i) {
+    auto& row = found[i];
+    std::size_t kept = 0;
+    for (std::size_t j : row)
+      if ((points[j] - points[i]).squaredNorm() <= r2) row[kept++] = j;
+    row.resize(kept);
+    std::sort(row.begin(), row.end());
+    counts[i] = static_cast<int>(kept);
   }
   Adjacency a;
   a.offsets.resize(points.size() + 1);
   a.offsets[0] = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) a.offsets[i + 1] = a.offsets[i] + static_cast<int>(rows[i].size());
+  for (std::size_t i = 0; i < points.size(); ++i) a.offsets[i + 1] = a.offsets[i] + counts[i];
   a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
 #pragma omp parallel for schedule(static)
-  for (long i = 0; i < n; ++i) std::copy(rows[i].begin(), rows[i].end(), a.indices.begin() + a.offsets[i]);
+  for (long i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < found[i].size(); ++k) a.indices[a.offsets[i] + k] = static_cast<int>(found[i][k]);
   return a;
 }
 
