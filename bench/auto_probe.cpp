@@ -16,8 +16,9 @@ int main(int argc, char** argv) {
     for (const char* which : {"clean.obj", "noisy.obj"}) {
       const scanmesh::Mesh m = scanmesh::read_mesh((e.path() / which).string());
       const auto a = scanmesh::estimate_parameters(m);
-      std::printf("%-22s %-10s noise %.3f features %.4f -> (%.2f, %.2f, %d)\n", e.path().filename().c_str(), which,
-                  a.noise_level, a.feature_fraction, a.options.sigma_s, a.options.lambda, a.options.iterations);
+      std::printf("%-22s %-10s noise %.3f plane %.3f features %.4f -> (%.2f, %.2f, %d)\n", e.path().filename().c_str(),
+                  which, a.noise_level, a.exact_plane_fraction, a.feature_fraction, a.options.sigma_s, a.options.lambda,
+                  a.options.iterations);
     }
   }
 }

@@ -48,3 +48,17 @@ TEST(EstimateParameters, CleanMeshGetsLightTouch) {
   const MeshMetrics r = evaluate(m, &clean);
   EXPECT_LT(r.msae_deg, 1.0);
 }
+
+TEST(EstimateParameters, NoiseFreeTessellationIsLeftAlone) {
+  // A clean CAD-like cube: most vertices lie exactly in the plane of their faces, which scanner noise
+  // never produces; --auto must not shuffle such a mesh around.
+  const Mesh cube = test::make_cube(6);
+  EXPECT_GT(exact_plane_fraction(cube), 0.5);
+  EXPECT_EQ(estimate_parameters(cube).options.iterations, 0);
+  Mesh noisy = cube;
+  NoiseOptions n;
+  n.level = 0.1;
+  add_noise(noisy, n);
+  EXPECT_LT(exact_plane_fraction(noisy), 0.01);
+  EXPECT_GT(estimate_parameters(noisy).options.iterations, 0);
+}

@@ -68,7 +68,10 @@ int run_denoise(const std::vector<std::string>& args) {
   if (vm["auto"].as<bool>()) {
     const AutoParameters a = estimate_parameters(mesh, options);
     options = a.options;
-    if (!quiet)
+    if (!quiet && a.options.iterations == 0)
+      std::fprintf(stderr, "auto: %.0f%% of the vertices lie exactly in the plane of their faces: the mesh is already "
+                           "noise-free, leaving it as it is (give --iterations to force)\n", 100.0 * a.exact_plane_fraction);
+    else if (!quiet)
       std::fprintf(stderr, "auto: noise %.3f x mean edge, %.1f%% feature faces -> sigma_s %.3g, lambda %.3g, iterations %d\n",
                    a.noise_level, 100.0 * a.feature_fraction, options.sigma_s, options.lambda, options.iterations);
   }

@@ -14,10 +14,33 @@ namespace {
 constexpr double kCleanNoiseLevel = 0.06;
 // Share of faces next to a sharp edge from which a mesh counts as having sharp features.
 constexpr double kFeatureFraction = 0.045;
+// Share of vertices lying exactly in the plane of their faces from which a mesh counts as noise-free.
+constexpr double kExactPlaneFraction = 0.1;
 // Scales estimate_noise_level to the noise level's usual definition (see there).
 constexpr double kCalibration = 0.9;
 
 }  // namespace
+
+double exact_plane_fraction(const Mesh& mesh) {
+  const Topology topo = build_topology(mesh);
+  const double edge = mean_edge_length(mesh, topo);
+  if (!(edge > 0.0)) return 0.0;
+  FaceGeometry g;
+  compute_face_geometry(mesh.positions, mesh.faces, g);
+  std::size_t flat = 0, counted = 0;
+  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
+    if (topo.vertex_faces.size(i) == 0) continue;
+    ++counted;
+    // Every face around the vertex has the same normal (to 1e-4, float32 rounding of long slivers): the
+    // vertex lies exactly in a plane.
+    const Vec3& n0 = g.normals[*topo.vertex_faces.begin(i)];
+    bool same = n0.squaredNorm() > 0.0;
+    for (const int* f = topo.vertex_faces.begin(i); same && f != topo.vertex_faces.end(i); ++f)
+      same = (g.normals[*f] - n0).norm() < 1e-4;
+    flat += same ? 1 : 0;
+  }
+  return counted > 0 ? static_cast<double>(flat) / static_cast<double>(counted) : 0.0;
+}
 
 double estimate_noise_level(const Mesh& mesh) {
   const Topology topo = build_topology(mesh);
@@ -93,8 +116,16 @@ AutoParameters estimate_parameters(const Mesh& mesh, const DenoiseOptions& base)
   AutoParameters a;
   a.options = base;
   a.noise_level = estimate_noise_level(mesh);
-  a.feature_fraction = feature_fraction(mesh);
+  a.exact_plane_fraction = exact_plane_fraction(mesh);
   DenoiseOptions& o = a.options;
+  if (a.exact_plane_fraction >= kExactPlaneFraction) {
+    // Scanner noise never leaves vertices exactly in their neighbours' plane; a CAD tessellation or an
+    // already denoised mesh does. Such meshes often consist of long slivers, which the vertex update
+    // would shuffle around; they are left as they are.
+    o.iterations = 0;
+    return a;
+  }
+  a.feature_fraction = feature_fraction(mesh);
   if (a.noise_level < kCleanNoiseLevel) {
     // Already clean: a light touch that cannot do harm.
     o.sigma_s = 0.45;

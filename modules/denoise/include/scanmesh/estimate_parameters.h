@@ -11,6 +11,7 @@ namespace scanmesh {
 struct AutoParameters {
   double noise_level = 0.0;       ///< estimated noise standard deviation / mean edge length
   double feature_fraction = 0.0;  ///< share of faces next to a sharp edge (dihedral > 35 deg after pre-smoothing)
+  double exact_plane_fraction = 0.0;  ///< share of vertices whose faces all have the same normal (to 1e-4)
   DenoiseOptions options;         ///< the input options with sigma_s, lambda and iterations replaced
 };
 
@@ -18,10 +19,15 @@ struct AutoParameters {
 /// to the least-squares plane of its one-ring neighbours, scaled to a standard deviation.
 double estimate_noise_level(const Mesh& mesh);
 
+/// Share of vertices whose faces all have the same normal (to 1e-4): large for CAD tessellations and
+/// already clean meshes, zero for anything carrying scanner noise.
+double exact_plane_fraction(const Mesh& mesh);
+
 /// Share of faces next to an edge with a dihedral angle above 35 degrees, after light pre-smoothing.
 double feature_fraction(const Mesh& mesh);
 
 /// Chooses sigma_s, lambda_I and the iteration count for `mesh`; other fields come from `base`.
+/// A mesh that is evidently noise-free (exact_plane_fraction >= 0.1) gets 0 iterations.
 AutoParameters estimate_parameters(const Mesh& mesh, const DenoiseOptions& base = {});
 
 }  // namespace scanmesh
