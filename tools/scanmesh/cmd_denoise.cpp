@@ -75,6 +75,13 @@ int run_denoise(const std::vector<std::string>& args) {
       std::fprintf(stderr, "auto: noise %.3f x mean edge, %.1f%% feature faces -> sigma_s %.3g, lambda %.3g, iterations %d\n",
                    a.noise_level, 100.0 * a.feature_fraction, options.sigma_s, options.lambda, options.iterations);
   }
+  else if (!quiet) {
+    const double plane = exact_plane_fraction(mesh);
+    if (plane >= 0.1)
+      std::fprintf(stderr, "warning: %.0f%% of the vertices of '%s' lie exactly in the plane of their faces: it looks "
+                           "noise-free (a CAD tessellation?); denoising may only disturb its triangles (--auto would "
+                           "leave it alone)\n", 100.0 * plane, in.c_str());
+  }
   if (vm.count("sigma-s")) options.sigma_s = vm["sigma-s"].as<double>();
   if (vm.count("lambda")) options.lambda = vm["lambda"].as<double>();
   if (vm.count("iterations")) options.iterations = vm["iterations"].as<int>();
