@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 
+#include "helpers.h"
 #include "scanmesh/add_noise.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/normal_filtering.h"
@@ -16,27 +17,7 @@ using namespace scanmesh;
 namespace {
 
 Mesh noisy_sphere(int levels) {
-  Mesh m;
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  for (const auto& p : {Vec3(-1, t, 0), Vec3(1, t, 0), Vec3(-1, -t, 0), Vec3(1, -t, 0), Vec3(0, -1, t), Vec3(0, 1, t),
-                        Vec3(0, -1, -t), Vec3(0, 1, -t), Vec3(t, 0, -1), Vec3(t, 0, 1), Vec3(-t, 0, -1), Vec3(-t, 0, 1)})
-    m.positions.push_back(p.normalized());
-  m.faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-             {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      auto [it, inserted] = mid.try_emplace(std::minmax(a, b), static_cast<int>(m.positions.size()));
-      if (inserted) m.positions.push_back((m.positions[a] + m.positions[b]).normalized());
-      return it->second;
-    };
-    std::vector<Face> faces;
-    for (const Face& f : m.faces) {
-      const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-      faces.insert(faces.end(), {{f[0], a, c}, {f[1], b, a}, {f[2], c, b}, {a, b, c}});
-    }
-    m.faces = std::move(faces);
-  }
+  Mesh m = test::make_sphere(levels);
   add_noise(m, NoiseOptions{});
   return m;
 }

@@ -1,6 +1,11 @@
 #pragma once
 // Tiny meshes built in code for the tests.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <tuple>
@@ -115,5 +120,22 @@ inline void jitter_z(Mesh& m, double sigma, unsigned seed) {
   std::normal_distribution<double> n(0.0, sigma);
   for (auto& p : m.positions) p.z() += n(rng);
 }
+
+/// Test fixture with a fresh temporary directory per test, removed afterwards.
+class TempDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("scanmesh_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& bytes) const {
+    std::ofstream(path(name), std::ios::binary) << bytes;
+    return path(name);
+  }
+  std::filesystem::path dir_;
+};
 
 }  // namespace scanmesh::test

@@ -8,6 +8,7 @@
 #include <random>
 #include <sstream>
 
+#include "helpers.h"
 #include "scanmesh/atomic_file.h"
 
 namespace fs = std::filesystem;
@@ -19,19 +20,8 @@ struct Result {
   std::string out, err;
 };
 
-class Cli : public ::testing::Test {
+class Cli : public scanmesh::test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("scanmesh_cli_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(path(name), std::ios::binary) << bytes;
-    return path(name);
-  }
   Result run(const std::string& args) const {
     const std::string cmd = std::string(SCANMESH_BIN) + " " + args + " >" + path("stdout") + " 2>" + path("stderr") + " </dev/null";
     const int status = std::system(cmd.c_str());
@@ -41,7 +31,6 @@ class Cli : public ::testing::Test {
     r.err = scanmesh::read_file(path("stderr"));
     return r;
   }
-  fs::path dir_;
 };
 
 const std::string kSample = std::string(SCANMESH_DATA_DIR) + "/fandisk-noisy.obj";

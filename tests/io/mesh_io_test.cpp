@@ -17,19 +17,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class MeshIo : public ::testing::Test {
+class MeshIo : public scanmesh::test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("scanmesh_io_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(path(name), std::ios::binary) << bytes;
-    return path(name);
-  }
   // Expects read_mesh to fail with an InputError naming the file and containing `needle`.
   void expect_error(const std::string& file, const std::string& needle) const {
     try {
@@ -41,7 +30,6 @@ class MeshIo : public ::testing::Test {
       EXPECT_NE(msg.find(needle), std::string::npos) << "'" << needle << "' not in: " << msg;
     }
   }
-  fs::path dir_;
 };
 
 Mesh irrational_mesh() {

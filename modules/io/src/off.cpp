@@ -111,13 +111,7 @@ std::string write_off(const Mesh& mesh) {
       out += '\n';
     }
   }
-  for (const Face& f : mesh.faces) {
-    out += "3 ";
-    for (int k = 0; k < 3; ++k) {
-      append_int(out, f[k]);
-      out += k < 2 ? ' ' : '\n';
-    }
-  }
+  append_counted_faces(out, mesh.faces);
   return out;
 }
 

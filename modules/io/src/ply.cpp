@@ -325,13 +325,7 @@ std::string write_ply(const Mesh& mesh, bool binary) {
       }
       out.back() = '\n';
     }
-    for (const Face& f : mesh.faces) {
-      out += "3 ";
-      for (int k = 0; k < 3; ++k) {
-        append_int(out, f[k]);
-        out += k < 2 ? ' ' : '\n';
-      }
-    }
+    append_counted_faces(out, mesh.faces);
   }
   return out;
 }

@@ -107,4 +107,16 @@ inline void append_int(std::string& out, long long v) {
   out.append(buf, p);
 }
 
+/// Appends "3 a b c" lines (0-based indices), the face list of OFF and ascii PLY.
+template <typename Faces>
+void append_counted_faces(std::string& out, const Faces& faces) {
+  for (const auto& f : faces) {
+    out += "3 ";
+    for (int k = 0; k < 3; ++k) {
+      append_int(out, f[k]);
+      out += k < 2 ? ' ' : '\n';
+    }
+  }
+}
+
 }  // namespace scanmesh::detail
