@@ -48,14 +48,17 @@ int main(int argc, char** argv) {
   const Topology t = build_topology(clean);
   for (const auto* m : {&noisy, &out}) {
     const MeshMetrics r = evaluate(*m, &clean);
-    double eb = 0.0, ei = 0.0;
+    double eb = 0.0, ei = 0.0, db = 0.0, di = 0.0;
     std::size_t nb = 0, ni = 0;
     for (std::size_t v = 0; v < clean.num_vertices(); ++v) {
+      const double moved = (m->positions[v] - clean.positions[v]).norm();
       if (t.boundary_vertex[v]) {
         eb += r.vertex_distance[v];
+        db += moved;
         ++nb;
       } else {
         ei += r.vertex_distance[v];
+        di += moved;
         ++ni;
       }
     }
@@ -90,8 +93,10 @@ int main(int argc, char** argv) {
       lc += loop_length(clean, loop);
       lm += loop_length(*m, loop);
     }
-    std::printf("%s: MSAE %.3f deg, mean distance boundary %.5f interior %.5f (ratio %.2f), boundary length %+.2f%% vs clean\n",
-                m == &noisy ? "noisy   " : "denoised", r.msae_deg, eb, ei, eb / ei, 100.0 * (lm - lc) / lc);
+    std::printf("%s: MSAE %.3f deg, mean distance to the clean surface: boundary %.5f interior %.5f (ratio %.2f); "
+                "mean distance to the clean vertex: boundary %.5f interior %.5f (ratio %.2f); boundary length %+.2f%% vs clean\n",
+                m == &noisy ? "noisy   " : "denoised", r.msae_deg, eb, ei, eb / ei, db / nb, di / ni, (db / nb) / (di / ni),
+                100.0 * (lm - lc) / lc);
   }
   return 0;
 }
