@@ -38,5 +38,6 @@ void print_warnings(const std::vector<std::string>& warnings, bool quiet);
 int run_denoise(const std::vector<std::string>& args);
 int run_noise(const std::vector<std::string>& args);
 int run_eval(const std::vector<std::string>& args);
+int run_mesh(const std::vector<std::string>& args);
 
 }  // namespace scanmesh::cli

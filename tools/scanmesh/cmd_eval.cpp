@@ -43,8 +43,10 @@ int run_eval(const std::vector<std::string>& args) {
   if (!quiet) {
     const auto& t = m.topology;
     std::printf("mesh:       %s\n", path.c_str());
-    std::printf("topology:   %zu vertices, %zu faces, %zu boundary loops, %zu non-manifold edges, %zu components, %zu degenerate faces\n",
-                t.vertices, t.faces, t.boundary_loops, t.nonmanifold_edges, t.components, t.degenerate_faces);
+    std::printf("topology:   %zu vertices, %zu faces, %zu edges, %zu boundary loops, %zu non-manifold edges, %zu components\n",
+                t.vertices, t.faces, t.edges, t.boundary_loops, t.nonmanifold_edges, t.components);
+    std::printf("defects:    %zu degenerate faces, %zu inconsistently oriented edges, %zu non-finite vertices\n",
+                t.degenerate_faces, t.inconsistent_edges, t.nonfinite_vertices);
     std::printf("Q:          %.4f mean, %.4f max (0.577 = equilateral)\n", m.quality_mean, m.quality_max);
     if (m.has_reference) {
       if (m.same_connectivity) {

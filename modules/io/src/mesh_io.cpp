@@ -56,6 +56,15 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   return mesh;
 }
 
+Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings) {
+  const std::string data = read_file(path);
+  if (data.empty()) throw InputError("'" + path + "': file is empty");
+  std::vector<std::string> local;
+  Mesh mesh = detail::read_ply(data, path, warnings != nullptr ? *warnings : local, false);
+  if (mesh.positions.empty()) throw InputError("'" + path + "': contains no vertices");
+  return mesh;
+}
+
 std::string encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options) {
   if (extension == ".obj") return detail::write_obj(mesh);
   if (extension == ".off") return detail::write_off(mesh);

@@ -124,7 +124,8 @@ class ValueReader {
 
 }  // namespace
 
-Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings) {
+Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings,
+              bool require_faces) {
   TextScanner s(data, file);
   if (s.token() != "ply") s.fail("not a PLY file: the first line must be 'ply'");
   s.skip_line();
@@ -190,13 +191,14 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   }
   for (int c = 0; c < 3; ++c)
     if (xyz[c] < 0) throw InputError(file + ": vertex element has no '" + std::string(1, "xyz"[c]) + "' property");
-  if (face == nullptr) throw InputError(file + ": no 'face' element (a point cloud, not a mesh?)");
+  if (face == nullptr && require_faces) throw InputError(file + ": no 'face' element (a point cloud, not a mesh?)");
   int index_list = -1;
-  for (std::size_t i = 0; i < face->properties.size(); ++i) {
-    const auto& p = face->properties[i];
-    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) index_list = static_cast<int>(i);
-  }
-  if (index_list < 0) throw InputError(file + ": face element has no 'vertex_indices' list");
+  if (face != nullptr)
+    for (std::size_t i = 0; i < face->properties.size(); ++i) {
+      const auto& p = face->properties[i];
+      if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) index_list = static_cast<int>(i);
+    }
+  if (face != nullptr && index_list < 0) throw InputError(file + ": face element has no 'vertex_indices' list");
 
   // Vertex properties other than x/y/z are kept.
   std::vector<int> prop_slot(vertex->properties.size(), -1);

@@ -53,6 +53,18 @@ TopologyStats topology_stats(const Mesh& mesh) {
     triangle_normal(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]], &area);
     s.degenerate_faces += area > 0.0 ? 0 : 1;
   }
+  for (const auto& p : mesh.positions) s.nonfinite_vertices += p.allFinite() ? 0 : 1;
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    if (topo.edge_faces.size(e) != 2) continue;
+    const auto [a, b] = topo.edges[e];
+    int dir[2];
+    for (int k = 0; k < 2; ++k) {
+      const Face& f = mesh.faces[topo.edge_faces.begin(e)[k]];
+      dir[k] = 0;
+      for (int i = 0; i < 3; ++i) dir[k] += (f[i] == a && f[(i + 1) % 3] == b) ? 1 : (f[i] == b && f[(i + 1) % 3] == a) ? -1 : 0;
+    }
+    s.inconsistent_edges += dir[0] == dir[1] ? 1 : 0;
+  }
   return s;
 }
 
@@ -145,7 +157,8 @@ std::string metrics_json(const MeshMetrics& m, int indent) {
     << ", \"edges\": " << m.topology.edges << ", \"boundary_edges\": " << m.topology.boundary_edges
     << ", \"boundary_loops\": " << m.topology.boundary_loops << ", \"nonmanifold_edges\": " << m.topology.nonmanifold_edges
     << ", \"components\": " << m.topology.components << ", \"isolated_vertices\": " << m.topology.isolated_vertices
-    << ", \"degenerate_faces\": " << m.topology.degenerate_faces << "},\n";
+    << ", \"degenerate_faces\": " << m.topology.degenerate_faces << ", \"inconsistent_edges\": " << m.topology.inconsistent_edges
+    << ", \"nonfinite_vertices\": " << m.topology.nonfinite_vertices << "},\n";
   o << pad << "\"bbox_diagonal\": " << m.bbox_diagonal << ",\n";
   o << pad << "\"mean_edge_length\": " << m.mean_edge_length << ",\n";
   o << pad << "\"quality_mean\": " << m.quality_mean << ",\n";

@@ -1,6 +1,8 @@
 #include "scanmesh/neighbourhoods.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "flann_index.h"
 #include "scanmesh/parallel.h"
@@ -34,6 +36,51 @@ Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius) 
   for (long i = 0; i < n; ++i)
     for (std::size_t k = 0; k < found[i].size(); ++k) a.indices[a.offsets[i] + k] = static_cast<int>(found[i][k]);
   return a;
+}
+
+Adjacency knn_neighbourhoods(const std::vector<Vec3>& points, int k) {
+  const auto n = static_cast<long>(points.size());
+  const std::size_t kk = std::min<std::size_t>(static_cast<std::size_t>(std::max(k, 0)) + 1, points.size());
+  detail::PointTree tree(points);
+  std::vector<std::vector<int>> rows(points.size());
+#pragma omp parallel
+  {
+    std::vector<std::size_t> idx;
+    std::vector<double> d2;
+#pragma omp for schedule(dynamic, 256)
+    for (long i = 0; i < n; ++i) {
+      tree.knn(points[i], kk, idx, d2);
+      // Order by distance, ties by index, so equal distances cannot reorder between runs.
+      std::vector<std::pair<double, std::size_t>> order;
+      for (std::size_t j = 0; j < idx.size(); ++j)
+        if (idx[j] != static_cast<std::size_t>(i)) order.emplace_back(d2[j], idx[j]);
+      std::sort(order.begin(), order.end());
+      for (std::size_t j = 0; j < order.size() && static_cast<int>(j) < k; ++j) rows[i].push_back(static_cast<int>(order[j].second));
+    }
+  }
+  Adjacency a;
+  a.offsets.assign(points.size() + 1, 0);
+  for (std::size_t i = 0; i < rows.size(); ++i) a.offsets[i + 1] = a.offsets[i] + static_cast<int>(rows[i].size());
+  for (const auto& r : rows) a.indices.insert(a.indices.end(), r.begin(), r.end());
+  return a;
+}
+
+std::vector<double> nearest_point_distances(const std::vector<Vec3>& points, const std::vector<Vec3>& queries) {
+  std::vector<double> d(queries.size(), std::numeric_limits<double>::infinity());
+  if (points.empty()) return d;
+  detail::PointTree tree(points);
+  const auto n = static_cast<long>(queries.size());
+#pragma omp parallel
+  {
+    std::vector<std::size_t> idx;
+    std::vector<double> d2;
+#pragma omp for schedule(dynamic, 256)
+    for (long i = 0; i < n; ++i) {
+      tree.knn(queries[i], 1, idx, d2);
+      if (!d2.empty()) d[i] = std::sqrt(d2[0]);
+    }
+  }
+  return d;
 }
 
 double mean_nearest_neighbour_distance(const std::vector<Vec3>& points) {

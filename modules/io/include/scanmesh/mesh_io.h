@@ -19,6 +19,10 @@ namespace scanmesh {
 /// (polygons triangulated, ignored elements) are appended to `warnings` if given.
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
+/// Reads the vertices (with all their properties) and, if present, the faces of a PLY file: for point
+/// clouds stored as PLY. Throws InputError like read_mesh (but a file without faces is fine).
+Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings = nullptr);
+
 /// How a mesh is encoded on disk.
 struct WriteOptions {
   bool binary = true;  ///< PLY and STL: binary (exact, compact) or ascii. OBJ and OFF are always text.

@@ -13,6 +13,8 @@ struct TopologyStats {
   std::size_t vertices = 0, faces = 0, edges = 0;
   std::size_t boundary_edges = 0, boundary_loops = 0, nonmanifold_edges = 0;
   std::size_t components = 0, isolated_vertices = 0, degenerate_faces = 0;
+  std::size_t inconsistent_edges = 0;  ///< two-face edges whose faces run along them in the same direction
+  std::size_t nonfinite_vertices = 0;  ///< vertices with a NaN or infinite coordinate
 };
 
 /// Everything `evaluate` measures. Per-element arrays are kept for histograms and coloured renderings.

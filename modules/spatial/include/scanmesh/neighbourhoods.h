@@ -11,6 +11,13 @@ namespace scanmesh {
 /// Exact (single k-d tree, unlimited checks); parallel over queries; independent of the thread count.
 Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius);
 
+/// For every point, its k nearest other points, nearest first (fewer if the cloud is smaller).
+/// Exact; parallel; independent of the thread count.
+Adjacency knn_neighbourhoods(const std::vector<Vec3>& points, int k);
+
+/// Distance from each query to the nearest of `points` (infinity if `points` is empty).
+std::vector<double> nearest_point_distances(const std::vector<Vec3>& points, const std::vector<Vec3>& queries);
+
 /// Mean distance from each point to its nearest other point (0 for fewer than two points).
 double mean_nearest_neighbour_distance(const std::vector<Vec3>& points);
 

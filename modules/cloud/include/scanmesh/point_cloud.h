@@ -1,0 +1,38 @@
+#pragma once
+// scanmesh's own point-cloud type: plain vectors, no PCL types, so code that uses clouds compiles fast.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+/// A point cloud, unorganized (height == 1) or organized as a width x height image (row-major, with
+/// NaN points as holes). Normals and colours are optional (empty when absent).
+struct PointCloud {
+  std::vector<Vec3> points;
+  std::vector<Vec3> normals;                       ///< empty or one per point
+  std::vector<std::array<std::uint8_t, 3>> colours;  ///< empty or one per point (r, g, b)
+  int width = 0;   ///< points per row (== size for unorganized clouds)
+  int height = 1;  ///< rows (1 for unorganized clouds)
+  /// Sensor position and orientation (rotation applied to sensor-frame directions), when known.
+  std::optional<Vec3> sensor_origin;
+  Eigen::Matrix3d sensor_orientation = Eigen::Matrix3d::Identity();
+
+  [[nodiscard]] std::size_t size() const { return points.size(); }
+  [[nodiscard]] bool organized() const { return height > 1; }
+  [[nodiscard]] bool has_normals() const { return !normals.empty(); }
+  [[nodiscard]] bool has_colours() const { return !colours.empty(); }
+  /// Number of points with finite coordinates.
+  [[nodiscard]] std::size_t finite_count() const;
+};
+
+/// Removes NaN/infinite points (and their normals/colours); the result is unorganized.
+void drop_non_finite(PointCloud& cloud);
+
+/// Keeps the points whose flag is set (attributes follow); the result is unorganized.
+void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
+
+}  // namespace scanmesh

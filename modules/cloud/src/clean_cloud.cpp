@@ -1,0 +1,248 @@
+// Cloud clean-up. Outlier removal, normal estimation and MLS use PCL; the voxel grid and the normal
+// orientation are written here (attribute averaging and a deterministic propagation order).
+#include "scanmesh/clean_cloud.h"
+
+#include <pcl/features/normal_3d_omp.h>
+#include <pcl/filters/radius_outlier_removal.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/point_types.h>
+#include <pcl/surface/mls.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <queue>
+#include <tuple>
+
+#include "scanmesh/errors.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/neighbourhoods.h"
+#include "scanmesh/parallel.h"
+
+namespace scanmesh {
+namespace {
+
+std::vector<Vec3> finite_points(const PointCloud& cloud, std::vector<int>* index = nullptr) {
+  std::vector<Vec3> pts;
+  pts.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (cloud.points[i].allFinite()) {
+      pts.push_back(cloud.points[i]);
+      if (index) index->push_back(static_cast<int>(i));
+    }
+  return pts;
+}
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const std::vector<Vec3>& pts) {
+  auto c = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  c->reserve(pts.size());
+  for (const auto& p : pts) c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+  return c;
+}
+
+// Marks removed points: organized clouds keep their grid with NaN holes, others shrink.
+void apply_keep(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
+  if (cloud.organized()) {
+    const double nan = std::nan("");
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      if (!keep[i]) cloud.points[i] = Vec3::Constant(nan);
+  } else {
+    keep_points(cloud, keep);
+  }
+}
+
+}  // namespace
+
+CloudScale measure_scale(const PointCloud& cloud) {
+  const std::vector<Vec3> pts = finite_points(cloud);
+  CloudScale s;
+  s.spacing = mean_nearest_neighbour_distance(pts);
+  s.diagonal = bbox_diagonal(pts);
+  return s;
+}
+
+void crop(PointCloud& cloud, const CropOptions& o) {
+  std::vector<std::uint8_t> keep(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p = cloud.points[i];
+    keep[i] = (p.array() >= o.min.array()).all() && (p.array() <= o.max.array()).all() ? 1 : 0;
+  }
+  keep_points(cloud, keep);
+}
+
+void voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const CloudScale& scale) {
+  const double leaf = o.leaf.resolve(scale.spacing, scale.spacing, scale.diagonal);
+  if (!(leaf > 0.0)) return;
+  struct Acc {
+    Vec3 p = Vec3::Zero(), n = Vec3::Zero(), c = Vec3::Zero();
+    int count = 0;
+  };
+  std::map<std::tuple<long long, long long, long long>, Acc> voxels;  // ordered: deterministic output
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p = cloud.points[i];
+    if (!p.allFinite()) continue;
+    auto& a = voxels[{static_cast<long long>(std::floor(p.x() / leaf)), static_cast<long long>(std::floor(p.y() / leaf)),
+                      static_cast<long long>(std::floor(p.z() / leaf))}];
+    a.p += p;
+    if (cloud.has_normals()) a.n += cloud.normals[i];
+    if (cloud.has_colours()) a.c += Vec3(cloud.colours[i][0], cloud.colours[i][1], cloud.colours[i][2]);
+    ++a.count;
+  }
+  PointCloud out;
+  out.sensor_origin = cloud.sensor_origin;
+  out.sensor_orientation = cloud.sensor_orientation;
+  for (const auto& [key, a] : voxels) {
+    out.points.push_back(a.p / a.count);
+    if (cloud.has_normals()) out.normals.push_back(a.n.norm() > 0.0 ? Vec3(a.n.normalized()) : Vec3::Zero());
+    if (cloud.has_colours()) {
+      const Vec3 c = a.c / a.count;
+      out.colours.push_back({static_cast<std::uint8_t>(std::lround(c.x())), static_cast<std::uint8_t>(std::lround(c.y())),
+                             static_cast<std::uint8_t>(std::lround(c.z()))});
+    }
+  }
+  out.width = static_cast<int>(out.points.size());
+  cloud = std::move(out);
+}
+
+void remove_outliers(PointCloud& cloud, const OutlierOptions& o, const CloudScale& scale) {
+  if (o.neighbours < 1) throw UsageError("outliers: neighbours must be >= 1");
+  if (!(o.std_ratio > 0.0)) throw UsageError("outliers: std_ratio must be > 0");
+  std::vector<int> index;
+  const std::vector<Vec3> pts = finite_points(cloud, &index);
+  if (pts.size() <= static_cast<std::size_t>(o.neighbours)) return;
+  auto pc = to_pcl(pts);
+  std::vector<std::uint8_t> keep(cloud.size(), 0);
+  pcl::Indices kept;
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+  sor.setInputCloud(pc);
+  sor.setMeanK(o.neighbours);
+  sor.setStddevMulThresh(o.std_ratio);
+  sor.filter(kept);
+  std::vector<std::uint8_t> pass(pts.size(), 0);
+  for (auto k : kept) pass[k] = 1;
+  const double radius = o.radius.resolve(scale.spacing, scale.spacing, scale.diagonal);
+  if (radius > 0.0) {
+    pcl::RadiusOutlierRemoval<pcl::PointXYZ> ror;
+    ror.setInputCloud(pc);
+    ror.setRadiusSearch(radius);
+    ror.setMinNeighborsInRadius(o.min_neighbours);
+    pcl::Indices rk;
+    ror.filter(rk);
+    std::vector<std::uint8_t> rpass(pts.size(), 0);
+    for (auto k : rk) rpass[k] = 1;
+    for (std::size_t i = 0; i < pts.size(); ++i) pass[i] = pass[i] && rpass[i];
+  }
+  for (std::size_t i = 0; i < pts.size(); ++i) keep[index[i]] = pass[i];
+  apply_keep(cloud, keep);
+}
+
+void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
+  if (o.neighbours < 3) throw UsageError("normals: neighbours must be >= 3");
+  std::vector<int> index;
+  const std::vector<Vec3> pts = finite_points(cloud, &index);
+  if (pts.size() < 3) throw InputError("normals: the cloud has fewer than 3 finite points");
+  auto pc = to_pcl(pts);
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(static_cast<unsigned>(thread_count()));
+  ne.setInputCloud(pc);
+  ne.setKSearch(std::min<int>(o.neighbours, static_cast<int>(pts.size()) - 1));
+  if (cloud.sensor_origin) {
+    const Vec3& s = *cloud.sensor_origin;
+    ne.setViewPoint(static_cast<float>(s.x()), static_cast<float>(s.y()), static_cast<float>(s.z()));
+  }
+  pcl::PointCloud<pcl::Normal> normals;
+  ne.compute(normals);
+  std::vector<Vec3> n(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& q = normals[i];
+    n[i] = Vec3(q.normal_x, q.normal_y, q.normal_z);
+    if (!n[i].allFinite() || n[i].norm() < 0.5) n[i] = Vec3::Zero();
+  }
+  const Adjacency knn = knn_neighbourhoods(pts, std::min<int>(o.neighbours, static_cast<int>(pts.size()) - 1));
+  // Points whose neighbourhood was degenerate borrow the nearest valid normal.
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (n[i].isZero())
+      for (const int* j = knn.begin(i); j != knn.end(i); ++j)
+        if (!n[*j].isZero()) {
+          n[i] = n[*j];
+          break;
+        }
+  if (o.orient && !cloud.sensor_origin) {
+    // Hoppe-style propagation: grow from the highest point (normal turned up), always taking next the
+    // neighbour whose normal is most parallel to an oriented one, flipping it to agree.
+    // Connected parts of the kNN graph (treated as undirected), each started at its highest point.
+    std::vector<int> part(pts.size(), -1);
+    std::vector<int> top;
+    {
+      std::vector<std::vector<int>> undirected(pts.size());
+      for (std::size_t i = 0; i < pts.size(); ++i)
+        for (const int* j = knn.begin(i); j != knn.end(i); ++j) {
+          undirected[i].push_back(*j);
+          undirected[*j].push_back(static_cast<int>(i));
+        }
+      std::vector<int> stack;
+      for (std::size_t s0 = 0; s0 < pts.size(); ++s0) {
+        if (part[s0] >= 0) continue;
+        const int id = static_cast<int>(top.size());
+        top.push_back(static_cast<int>(s0));
+        part[s0] = id;
+        stack.assign(1, static_cast<int>(s0));
+        while (!stack.empty()) {
+          const int v = stack.back();
+          stack.pop_back();
+          if (pts[v].z() > pts[top[id]].z()) top[id] = v;
+          for (int w : undirected[v])
+            if (part[w] < 0) {
+              part[w] = id;
+              stack.push_back(w);
+            }
+        }
+      }
+    }
+    std::vector<std::uint8_t> done(pts.size(), 0);
+    using Item = std::tuple<double, int, int>;  // (1 - |n_i . n_j|, j, i): smallest first, ties by index
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    auto push = [&](int i) {
+      for (const int* j = knn.begin(i); j != knn.end(i); ++j)
+        if (!done[*j]) queue.emplace(1.0 - std::abs(n[i].dot(n[*j])), *j, i);
+    };
+    for (int t : top) {
+      if (n[t].z() < 0.0) n[t] = -n[t];
+      done[t] = 1;
+      push(t);
+      while (!queue.empty()) {
+        const auto [cost, j, i] = queue.top();
+        queue.pop();
+        if (done[j]) continue;
+        if (n[i].dot(n[j]) < 0.0) n[j] = -n[j];
+        done[j] = 1;
+        push(j);
+      }
+    }
+  }
+  cloud.normals.assign(cloud.size(), Vec3::Constant(std::nan("")));
+  for (std::size_t i = 0; i < pts.size(); ++i) cloud.normals[index[i]] = n[i];
+}
+
+void smooth_mls(PointCloud& cloud, const MlsOptions& o, const CloudScale& scale) {
+  const double radius = o.radius.resolve(scale.spacing, scale.spacing, scale.diagonal);
+  if (!(radius > 0.0)) return;
+  std::vector<int> index;
+  const std::vector<Vec3> pts = finite_points(cloud, &index);
+  auto pc = to_pcl(pts);
+  pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointXYZ> mls;
+  mls.setInputCloud(pc);
+  mls.setSearchRadius(radius);
+  mls.setPolynomialOrder(o.polynomial_order);
+  mls.setNumberOfThreads(1);  // PCL's MLS output order depends on thread scheduling otherwise
+  mls.setProjectionMethod(pcl::MLSResult::SIMPLE);
+  pcl::PointCloud<pcl::PointXYZ> out;
+  mls.process(out);
+  const auto& corr = mls.getCorrespondingIndices();
+  if (!corr || corr->indices.size() != out.size()) return;
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const auto& q = out[k];
+    cloud.points[index[corr->indices[k]]] = Vec3(q.x, q.y, q.z);
+  }
+}
+
+}  // namespace scanmesh

@@ -1,0 +1,33 @@
+#include "scanmesh/point_cloud.h"
+
+namespace scanmesh {
+
+std::size_t PointCloud::finite_count() const {
+  std::size_t n = 0;
+  for (const auto& p : points) n += p.allFinite() ? 1 : 0;
+  return n;
+}
+
+void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    if (!keep[i]) continue;
+    cloud.points[out] = cloud.points[i];
+    if (cloud.has_normals()) cloud.normals[out] = cloud.normals[i];
+    if (cloud.has_colours()) cloud.colours[out] = cloud.colours[i];
+    ++out;
+  }
+  cloud.points.resize(out);
+  if (cloud.has_normals()) cloud.normals.resize(out);
+  if (cloud.has_colours()) cloud.colours.resize(out);
+  cloud.width = static_cast<int>(out);
+  cloud.height = 1;
+}
+
+void drop_non_finite(PointCloud& cloud) {
+  std::vector<std::uint8_t> keep(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) keep[i] = cloud.points[i].allFinite() ? 1 : 0;
+  keep_points(cloud, keep);
+}
+
+}  // namespace scanmesh
