@@ -135,6 +135,30 @@ TEST_F(Cli, NoiseIsSeeded) {
   EXPECT_EQ(run("noise " + kReference + " " + path("n4.ply") + " --kind pink").code, 2);
 }
 
+TEST_F(Cli, MeshesACloudAndRejectsBadClouds) {
+  Result r = run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("bun.ply"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("397 points"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("boundary loops"), std::string::npos) << r.err;
+  const std::string header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 100\nHEIGHT 1\nPOINTS 100\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"empty.pcd", ""},
+      {"allnan.xyz", "nan nan nan\nnan nan nan\n"},
+      {"header.pcd", "HELLO\n" + header + "DATA ascii\n"},
+      {"truncated.pcd", header + "DATA binary\n" + std::string(64, '\0')},
+  };
+  for (const auto& [name, bytes] : cases) {
+    const std::string in = write(name, bytes);
+    const std::string out = path("out_" + name + ".ply");
+    r = run("mesh " + in + " " + out);
+    EXPECT_EQ(r.code, 1) << name << ": " << r.err;
+    EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+  EXPECT_EQ(run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("x.ply") + " --method magic").code, 2);
+  EXPECT_EQ(run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("x.ply") + " --radius far").code, 2);
+}
+
 TEST_F(Cli, HelpExplainsEveryParameter) {
   const Result r = run("denoise --help");
   EXPECT_EQ(r.code, 0);

@@ -1,0 +1,174 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "helpers.h"
+#include "scanmesh/clean_cloud.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/length.h"
+#include "scanmesh/read_cloud.h"
+
+using namespace scanmesh;
+
+namespace {
+
+PointCloud plane_cloud(int n, double h, double noise, unsigned seed) {
+  PointCloud c;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, noise);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) c.points.emplace_back(i * h, j * h, noise > 0 ? g(rng) : 0.0);
+  c.width = static_cast<int>(c.points.size());
+  return c;
+}
+
+PointCloud sphere_cloud(int n, unsigned seed) {
+  PointCloud c;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int i = 0; i < n; ++i) c.points.push_back(Vec3(g(rng), g(rng), g(rng)).normalized());
+  c.width = n;
+  return c;
+}
+
+class CloudIo : public test::TempDirTest {};
+
+}  // namespace
+
+TEST(Length, ParsesAllForms) {
+  EXPECT_DOUBLE_EQ(parse_length("0.25", "x").resolve(2, 3, 10), 0.25);
+  EXPECT_DOUBLE_EQ(parse_length("3*spacing", "x").resolve(2, 3, 10), 6.0);
+  EXPECT_DOUBLE_EQ(parse_length("2*edge", "x").resolve(2, 3, 10), 6.0);
+  EXPECT_DOUBLE_EQ(parse_length("5%", "x").resolve(2, 3, 10), 0.5);
+  EXPECT_THROW(parse_length("three", "x"), UsageError);
+  EXPECT_THROW(parse_length("2*furlong", "x"), UsageError);
+  EXPECT_THROW(parse_length("-1", "x"), UsageError);
+}
+
+TEST(CloudStages, ScaleOfAGrid) {
+  const PointCloud c = plane_cloud(10, 0.5, 0.0, 1);
+  const CloudScale s = measure_scale(c);
+  EXPECT_NEAR(s.spacing, 0.5, 1e-12);
+  EXPECT_NEAR(s.diagonal, 4.5 * std::sqrt(2.0), 1e-12);
+}
+
+TEST(CloudStages, VoxelAveragesAndIsDeterministic) {
+  PointCloud c = plane_cloud(20, 0.1, 0.0, 1);
+  c.colours.assign(c.size(), {10, 20, 30});
+  const CloudScale s = measure_scale(c);
+  PointCloud a = c, b = c;
+  voxel_downsample(a, VoxelOptions{Length::spacings(2.0)}, s);
+  voxel_downsample(b, VoxelOptions{Length::spacings(2.0)}, s);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_LE(a.size(), 121u);
+  EXPECT_GE(a.size(), 100u);
+  ASSERT_EQ(a.colours.size(), a.size());
+  EXPECT_EQ(a.colours[0][1], 20);
+}
+
+TEST(CloudStages, OutliersAreRemovedFromAPlane) {
+  PointCloud c = plane_cloud(30, 0.1, 0.002, 3);
+  const std::size_t inliers = c.size();
+  c.points.emplace_back(1.5, 1.5, 2.0);
+  c.points.emplace_back(-3.0, 0.5, 0.3);
+  c.width = static_cast<int>(c.size());
+  remove_outliers(c, OutlierOptions{}, measure_scale(c));
+  EXPECT_GE(c.size(), inliers - 5);
+  for (const auto& p : c.points) EXPECT_LT(std::abs(p.z()), 0.1);
+}
+
+TEST(CloudStages, OrganizedCloudKeepsItsGridWithHoles) {
+  PointCloud c = plane_cloud(16, 0.1, 0.0, 1);
+  c.width = 16;
+  c.height = 16;
+  c.points[5] = Vec3::Constant(std::nan(""));
+  c.points[40] = Vec3(0.4, 0.4, 5.0);  // a spike
+  remove_outliers(c, OutlierOptions{}, measure_scale(c));
+  EXPECT_EQ(c.size(), 256u);
+  EXPECT_TRUE(c.organized());
+  EXPECT_FALSE(c.points[5].allFinite());
+  EXPECT_FALSE(c.points[40].allFinite());
+}
+
+TEST(CloudStages, NormalsOfAPlaneAndOutwardOnASphere) {
+  PointCloud plane = plane_cloud(15, 0.1, 0.0, 1);
+  estimate_normals(plane, NormalOptions{});
+  for (const auto& n : plane.normals) EXPECT_NEAR(n.z(), 1.0, 1e-6);  // oriented up from the highest point
+  PointCloud sphere = sphere_cloud(3000, 2);
+  estimate_normals(sphere, NormalOptions{});
+  std::size_t outward = 0;
+  for (std::size_t i = 0; i < sphere.size(); ++i) outward += sphere.normals[i].dot(sphere.points[i]) > 0.9 ? 1 : 0;
+  EXPECT_EQ(outward, sphere.size());
+}
+
+TEST(CloudStages, NormalsFaceTheSensor) {
+  PointCloud plane = plane_cloud(15, 0.1, 0.0, 1);
+  plane.sensor_origin = Vec3(0.7, 0.7, -5.0);
+  estimate_normals(plane, NormalOptions{});
+  for (const auto& n : plane.normals) EXPECT_NEAR(n.z(), -1.0, 1e-6);
+}
+
+TEST(CloudStages, CubeCornerNormalsAreAxisAligned) {
+  PointCloud c;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      c.points.emplace_back(0.0, 0.05 + 0.1 * i, 0.05 + 0.1 * j);
+      c.points.emplace_back(0.05 + 0.1 * i, 0.0, 0.05 + 0.1 * j);
+      c.points.emplace_back(0.05 + 0.1 * i, 0.05 + 0.1 * j, 0.0);
+    }
+  c.width = static_cast<int>(c.size());
+  NormalOptions o;
+  o.neighbours = 8;
+  estimate_normals(c, o);
+  std::size_t axis = 0;
+  for (const auto& n : c.normals) axis += n.cwiseAbs().maxCoeff() > 0.99 ? 1 : 0;
+  EXPECT_GT(axis, c.size() * 8 / 10);  // all but the points next to the corner's edges
+}
+
+TEST_F(CloudIo, XyzPcdAndPlyClouds) {
+  const PointCloud xyz = read_cloud(write("a.xyz", "0 0 0\n1 0 0\n0 1 0\n# comment\n1 1 0.5\n"));
+  EXPECT_EQ(xyz.size(), 4u);
+  EXPECT_FALSE(xyz.has_normals());
+  const PointCloud xyzn = read_cloud(write("b.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n"));
+  ASSERT_TRUE(xyzn.has_normals());
+  EXPECT_EQ(xyzn.normals[2], Vec3(0, 0, 1));
+  const PointCloud pcd = read_cloud(write("c.pcd", "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                                                 "WIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n0 0 0\n1 0 0\nnan nan nan\n"));
+  EXPECT_EQ(pcd.size(), 2u);  // NaN dropped from an unorganized cloud
+  const PointCloud organized = read_cloud(write("d.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                                                         "WIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+                                                         "0 0 1\nnan nan nan\n0 1 1\n1 1 1\n"));
+  EXPECT_EQ(organized.size(), 4u);  // kept as a hole in an organized cloud
+  EXPECT_TRUE(organized.organized());
+  EXPECT_FALSE(organized.points[1].allFinite());
+  ASSERT_TRUE(organized.sensor_origin.has_value());
+  PointCloud w = xyzn;
+  write_cloud_ply(w, path("e.ply"));
+  const PointCloud back = read_cloud(path("e.ply"));
+  EXPECT_EQ(back.points, w.points);
+  EXPECT_EQ(back.normals, w.normals);
+}
+
+TEST_F(CloudIo, BadCloudsGiveClearErrors) {
+  auto expect_error = [&](const std::string& file, const std::string& needle) {
+    try {
+      read_cloud(file);
+      ADD_FAILURE() << "no error for " << file;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(std::filesystem::path(file).filename().string()), std::string::npos) << msg;
+      EXPECT_NE(msg.find(needle), std::string::npos) << "'" << needle << "' not in: " << msg;
+    }
+  };
+  const std::string header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 100\nHEIGHT 1\nPOINTS 100\n";
+  expect_error(write("empty.pcd", ""), "empty");
+  expect_error(write("zero.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA ascii\n"), "empty");
+  expect_error(write("nan.xyz", "nan nan nan\nnan 0 0\n"), "no point with finite coordinates");
+  expect_error(write("header.pcd", "HELLO 1\n" + header + "DATA ascii\n"), "not a PCD file");
+  expect_error(write("truncated.pcd", header + "DATA binary\n" + std::string(100, '\0')), "truncated");
+  expect_error(write("columns.xyz", "0 0 0\n1 0\n"), "columns");
+  expect_error(write("words.xyz", "0 0 zero\n"), "not a number");
+  expect_error(write("cloud.las", "LASF"), "unknown point-cloud format");
+  expect_error(path("missing.pcd"), "No such file");
+}

@@ -1,0 +1,115 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "helpers.h"
+#include "scanmesh/clean_cloud.h"
+#include "scanmesh/clean_mesh.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/triangulate.h"
+
+using namespace scanmesh;
+
+namespace {
+
+PointCloud sampled_sphere(int n) {
+  PointCloud c;
+  // Fibonacci sphere: even spacing, deterministic.
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z);
+    c.points.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+  c.width = n;
+  return c;
+}
+
+void expect_clean(const Mesh& m) {
+  const TopologyStats t = topology_stats(m);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+  EXPECT_EQ(t.degenerate_faces, 0u);
+  EXPECT_EQ(t.nonfinite_vertices, 0u);
+}
+
+}  // namespace
+
+TEST(Meshing, Gp3OnASphereKeepsThePointsAndFacesOutwards) {
+  PointCloud c = sampled_sphere(4000);
+  estimate_normals(c, NormalOptions{});
+  const CloudScale s = measure_scale(c);
+  Mesh m = triangulate_gp3(c, Gp3Options{}, s);
+  clean_mesh(m, CleanupOptions{});
+  expect_clean(m);
+  EXPECT_GT(m.num_faces(), 7000u);
+  for (const auto& p : m.positions) EXPECT_NEAR(p.norm(), 1.0, 1e-6);  // measured points kept as vertices
+  EXPECT_GT(signed_volume(m), 3.5);  // outward: close to 4/3 pi
+}
+
+TEST(Meshing, OrganizedGridWithHoles) {
+  PointCloud c;
+  c.width = 20;
+  c.height = 15;
+  for (int j = 0; j < c.height; ++j)
+    for (int i = 0; i < c.width; ++i) c.points.emplace_back(0.01 * i, 0.01 * j, 1.0);
+  for (int k : {105, 106, 125, 126, 252}) c.points[k] = Vec3::Constant(std::nan(""));
+  c.sensor_origin = Vec3::Zero();
+  Mesh m = triangulate_organized(c, OrganizedOptions{}, measure_scale(c));
+  clean_mesh(m, CleanupOptions{}, c.sensor_origin);
+  expect_clean(m);
+  EXPECT_EQ(m.num_vertices(), 295u);
+  EXPECT_GT(m.num_faces(), 480u);
+  for (const Face& f : m.faces) {  // facing the sensor at the origin, i.e. -z
+    const Vec3 n = (m.positions[f[1]] - m.positions[f[0]]).cross(m.positions[f[2]] - m.positions[f[0]]);
+    EXPECT_LT(n.z(), 0.0);
+  }
+  EXPECT_EQ(topology_stats(m).boundary_loops, 3u);  // the outline, the 2x2 hole and the single hole
+}
+
+TEST(Meshing, PoissonIsWatertightOnASphere) {
+  PointCloud c = sampled_sphere(3000);
+  estimate_normals(c, NormalOptions{});
+  PoissonOptions o;
+  o.depth = 6;
+  o.watertight = true;
+  Mesh m = triangulate_poisson(c, o, measure_scale(c));
+  clean_mesh(m, CleanupOptions{});
+  expect_clean(m);
+  EXPECT_EQ(topology_stats(m).boundary_edges, 0u);
+  EXPECT_NEAR(signed_volume(m), 4.0 / 3.0 * M_PI, 0.3);
+}
+
+TEST(Cleanup, RepairsAMessyMesh) {
+  Mesh m = test::make_grid(4, 0.25);
+  const std::size_t good = m.num_faces();
+  m.faces.push_back(m.faces[3]);                 // duplicate
+  m.faces.push_back({m.faces[5][0], m.faces[5][2], m.faces[5][1]});  // duplicate, flipped
+  m.faces.push_back({1, 1, 2});                  // degenerate
+  m.positions.emplace_back(0.25, 0.0, 1.0);      // a fin on the interior edge (0,6): non-manifold
+  m.faces.push_back({0, 6, static_cast<int>(m.num_vertices()) - 1});
+  m.positions.emplace_back(9, 9, 9);             // unreferenced
+  for (std::size_t f = 0; f < good; f += 3) std::swap(m.faces[f][1], m.faces[f][2]);  // scrambled orientation
+  const CleanupReport r = clean_mesh(m, CleanupOptions{});
+  expect_clean(m);
+  EXPECT_EQ(r.duplicate_faces, 2u);
+  EXPECT_EQ(r.degenerate_faces, 1u);
+  EXPECT_GE(r.nonmanifold_faces + r.small_component_faces, 1u);
+  EXPECT_EQ(m.num_faces(), good);
+  EXPECT_EQ(m.num_vertices(), 25u);
+}
+
+TEST(Cleanup, SplitsABowtieVertexAndOrientsClosedPiecesOutwards) {
+  Mesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)};
+  m.faces = {{0, 1, 2}, {0, 3, 4}};  // two triangles touching at vertex 0 only
+  CleanupOptions o;
+  o.min_component_faces = 0;
+  const CleanupReport r = clean_mesh(m, o);
+  EXPECT_EQ(r.split_vertices, 1u);
+  EXPECT_EQ(m.num_vertices(), 6u);
+  Mesh cube = test::make_cube(2);
+  for (auto& f : cube.faces) std::swap(f[1], f[2]);  // inside out
+  clean_mesh(cube, CleanupOptions{});
+  EXPECT_NEAR(signed_volume(cube), 1.0, 1e-12);
+}
