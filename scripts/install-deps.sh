@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev                         # dense linear algebra (3x3 vectors, small solves)
   libflann-dev liblz4-dev               # FLANN radius/kNN search on face centroids and points
   libpcl-dev                            # point-cloud I/O, filters, normals, meshing
+  libvtk9-dev                           # ray casting for the virtual scanner (also a PCL dependency)
   libopencv-dev                         # rendering report figures to PNG
   libyaml-cpp-dev                       # YAML pipelines
   libboost-dev                          # PCL's public headers need Boost

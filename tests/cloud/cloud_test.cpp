@@ -7,7 +7,7 @@
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/length.h"
-#include "scanmesh/read_cloud.h"
+#include "scanmesh/cloud_io.h"
 
 using namespace scanmesh;
 

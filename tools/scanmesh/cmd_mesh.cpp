@@ -8,7 +8,7 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
-#include "scanmesh/read_cloud.h"
+#include "scanmesh/cloud_io.h"
 #include "scanmesh/triangulate.h"
 
 namespace scanmesh::cli {

@@ -15,6 +15,7 @@ const char* kHelp =
     "\n"
     "commands:\n"
     "  mesh CLOUD OUT   point cloud (.pcd .ply .xyz) -> cleaned triangle mesh (PCL)\n"
+    "  scan MESH OUT    virtual depth scanner: noisy clouds of a clean mesh from several views\n"
     "  denoise IN OUT   robust two-stage mesh denoising (Yadav et al. 2019), --auto picks parameters\n"
     "  noise IN OUT     add synthetic noise (gaussian, uniform, impulsive) for experiments\n"
     "  eval MESH        quality metrics, against a reference with --reference REF\n"
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
     if (command == "noise") return cli::run_noise(args);
     if (command == "eval") return cli::run_eval(args);
     if (command == "mesh") return cli::run_mesh(args);
+    if (command == "scan") return cli::run_scan(args);
     if (command == "version" || command == "--version") {
       std::cout << "scanmesh " SCANMESH_VERSION "\n";
       return cli::kOk;
@@ -45,7 +47,7 @@ int main(int argc, char** argv) {
       std::cout << kHelp;
       return cli::kOk;
     }
-    std::cerr << "scanmesh: unknown command '" << command << "'; commands: mesh, denoise, noise, eval, version\n";
+    std::cerr << "scanmesh: unknown command '" << command << "'; commands: mesh, scan, denoise, noise, eval, version\n";
     return cli::kBadUsage;
   } catch (const UsageError& e) {
     std::cerr << "scanmesh " << command << ": error: " << e.what() << "\n";

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "scanmesh/closest_point.h"
+#include "scanmesh/neighbourhoods.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/topology.h"
 
@@ -145,6 +146,38 @@ MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference) {
     if (vr != 0.0) m.volume_change = (signed_volume(mesh) - vr) / vr;
   }
   return m;
+}
+
+double nearest_face_normal_error(const Mesh& mesh, const Mesh& reference) {
+  ClosestPointIndex index(reference);
+  FaceGeometry g, gr;
+  compute_face_geometry(mesh.positions, mesh.faces, g);
+  compute_face_geometry(reference.positions, reference.faces, gr);
+  const auto nf = static_cast<long>(mesh.num_faces());
+  std::vector<double> err(mesh.num_faces(), 0.0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long f = 0; f < nf; ++f) {
+    const auto hit = index.closest(g.centroids[f]);
+    const double c = std::min(1.0, std::abs(g.normals[f].dot(gr.normals[hit.face])));
+    err[f] = std::acos(c) * 180.0 / kPi;
+  }
+  double sum = 0.0;
+  for (double e : err) sum += e;
+  return nf > 0 ? sum / static_cast<double>(nf) : 0.0;
+}
+
+double scanned_coverage(const Mesh& mesh, const Mesh& reference, const std::vector<Vec3>& scan, double radius) {
+  FaceGeometry gr;
+  compute_face_geometry(reference.positions, reference.faces, gr);
+  const std::vector<double> to_scan = nearest_point_distances(scan, gr.centroids);
+  ClosestPointIndex index(mesh);
+  std::size_t seen = 0, covered = 0;
+  for (std::size_t f = 0; f < reference.num_faces(); ++f) {
+    if (!(to_scan[f] <= radius)) continue;
+    ++seen;
+    covered += index.closest(gr.centroids[f]).distance <= radius ? 1 : 0;
+  }
+  return seen > 0 ? static_cast<double>(covered) / static_cast<double>(seen) : 0.0;
 }
 
 std::string metrics_json(const MeshMetrics& m, int indent) {

@@ -53,6 +53,15 @@ double signed_volume(const Mesh& mesh);
 /// Measures `mesh`, and against `reference` if given. Parallel; independent of the thread count.
 MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference);
 
+/// Mean angle (degrees) between each face's normal and the normal of the nearest reference face (the one
+/// holding the closest point to the face's centroid), unsigned: a reversed face counts as aligned. For
+/// meshes whose faces do not correspond to the reference's (e.g. reconstructed from a scan).
+double nearest_face_normal_error(const Mesh& mesh, const Mesh& reference);
+
+/// Share of the reference surface that the mesh covers where a scan saw it: among reference face centroids
+/// within `radius` of a scan point, the fraction within `radius` of the mesh.
+double scanned_coverage(const Mesh& mesh, const Mesh& reference, const std::vector<Vec3>& scan, double radius);
+
 /// JSON object with the summary numbers (no per-element arrays).
 std::string metrics_json(const MeshMetrics& metrics, int indent = 2);
 

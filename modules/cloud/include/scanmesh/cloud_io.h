@@ -24,4 +24,8 @@ bool is_cloud_extension(const std::string& extension);
 /// Writes a cloud as binary PLY (positions, normals and colours when present), atomically.
 void write_cloud_ply(const PointCloud& cloud, const std::string& path);
 
+/// Writes a cloud as binary-compressed PCD, keeping its organisation (width x height, NaN holes) and its
+/// sensor pose in VIEWPOINT, atomically.
+void write_cloud_pcd(const PointCloud& cloud, const std::string& path);
+
 }  // namespace scanmesh

@@ -1,6 +1,6 @@
 // Cloud readers. PCD and PLY decoding is PCL's (pcl::io); this file adds what PCL does not: header
 // checks with clear messages (PCL logs and returns -1), Stanford .conf poses, and XYZ text.
-#include "scanmesh/read_cloud.h"
+#include "scanmesh/cloud_io.h"
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/common/io.h>
@@ -276,6 +276,33 @@ void write_cloud_ply(const PointCloud& cloud, const std::string& path) {
     }
   }
   write_mesh(m, path);
+}
+
+void write_cloud_pcd(const PointCloud& cloud, const std::string& path) {
+  namespace fs = std::filesystem;
+  pcl::PointCloud<pcl::PointXYZ> pc;
+  pc.width = static_cast<std::uint32_t>(cloud.width);
+  pc.height = static_cast<std::uint32_t>(cloud.height);
+  pc.is_dense = false;
+  pc.points.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    pc.points[i] = pcl::PointXYZ(static_cast<float>(cloud.points[i].x()), static_cast<float>(cloud.points[i].y()),
+                                 static_cast<float>(cloud.points[i].z()));
+  if (cloud.sensor_origin) {
+    pc.sensor_origin_ = Eigen::Vector4f(static_cast<float>(cloud.sensor_origin->x()), static_cast<float>(cloud.sensor_origin->y()),
+                                        static_cast<float>(cloud.sensor_origin->z()), 0.0f);
+    pc.sensor_orientation_ = Eigen::Quaternionf(cloud.sensor_orientation.cast<float>());
+  }
+  const fs::path target(path);
+  const fs::path tmp = (target.has_parent_path() ? target.parent_path() : fs::path(".")) / ("." + target.filename().string() + ".tmp");
+  if (pcl::io::savePCDFileBinaryCompressed(tmp.string(), pc) < 0) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw OutputError("cannot write '" + path + "'");
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) throw OutputError("cannot write '" + path + "': " + ec.message());
 }
 
 }  // namespace scanmesh
