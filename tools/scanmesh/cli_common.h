@@ -40,5 +40,6 @@ int run_noise(const std::vector<std::string>& args);
 int run_eval(const std::vector<std::string>& args);
 int run_mesh(const std::vector<std::string>& args);
 int run_scan(const std::vector<std::string>& args);
+int run_pipeline(const std::vector<std::string>& args);
 
 }  // namespace scanmesh::cli

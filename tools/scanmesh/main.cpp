@@ -14,6 +14,7 @@ const char* kHelp =
     "usage: scanmesh COMMAND [ARGS] [--help]\n"
     "\n"
     "commands:\n"
+    "  run PIPELINE     run a YAML pipeline (see configs/): scan -> mesh -> denoise -> report\n"
     "  mesh CLOUD OUT   point cloud (.pcd .ply .xyz) -> cleaned triangle mesh (PCL)\n"
     "  scan MESH OUT    virtual depth scanner: noisy clouds of a clean mesh from several views\n"
     "  denoise IN OUT   robust two-stage mesh denoising (Yadav et al. 2019), --auto picks parameters\n"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
     if (command == "eval") return cli::run_eval(args);
     if (command == "mesh") return cli::run_mesh(args);
     if (command == "scan") return cli::run_scan(args);
+    if (command == "run") return cli::run_pipeline(args);
     if (command == "version" || command == "--version") {
       std::cout << "scanmesh " SCANMESH_VERSION "\n";
       return cli::kOk;
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
       std::cout << kHelp;
       return cli::kOk;
     }
-    std::cerr << "scanmesh: unknown command '" << command << "'; commands: mesh, scan, denoise, noise, eval, version\n";
+    std::cerr << "scanmesh: unknown command '" << command << "'; commands: run, mesh, scan, denoise, noise, eval, version\n";
     return cli::kBadUsage;
   } catch (const UsageError& e) {
     std::cerr << "scanmesh " << command << ": error: " << e.what() << "\n";

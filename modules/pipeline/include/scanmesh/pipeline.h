@@ -1,0 +1,68 @@
+#pragma once
+// YAML pipelines modelled on PDAL's: a `pipeline:` list (or a bare list) of stages. A bare string is a
+// file: a reader if first, a writer if last (chosen by extension). A stage is a map with `type` (a dotted
+// family: cloud.crop, cloud.voxel, cloud.outliers, cloud.normals, cloud.mls, mesh.auto, mesh.gp3,
+// mesh.organized, mesh.poisson, mesh.cleanup, mesh.denoise, mesh.noise, scan.virtual, report), an optional
+// unique `tag` and optional `inputs` (tags of earlier stages); every other key is an option, read into the
+// same options struct the C++ API and the command line use. Every configuration error names FILE:LINE, the
+// stage, the key and the valid choices, and is raised before anything runs.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scanmesh/errors.h"
+
+namespace scanmesh {
+
+/// A configuration error: bad YAML, unknown stage type or key, wrong value type, missing file, unknown tag.
+class ConfigError : public UsageError {
+ public:
+  using UsageError::UsageError;
+};
+
+struct PipelineOptions {
+  std::optional<std::string> input;   ///< replaces the first reader's file
+  std::optional<std::string> output;  ///< replaces the last writer's file
+  std::vector<std::string> sets;      ///< "TAG.OPTION=VALUE" overrides (the stage's type works as a tag too)
+  int threads = 0;
+  /// Called with (stage label, done, total) during long stages.
+  std::function<void(const std::string&, int, int)> progress;
+  /// Called with one line per finished stage.
+  std::function<void(const std::string&)> log;
+};
+
+struct PipelineResult {
+  std::string output;
+  std::vector<std::string> report_files;  ///< sidecar, figures and page, if the pipeline has a report stage
+  double seconds = 0.0;
+};
+
+/// A parsed and validated pipeline. Loading checks everything (syntax, types, keys, values, files, tags);
+/// running then only fails on problems in the data.
+class Pipeline {
+ public:
+  static Pipeline load(const std::string& path, const PipelineOptions& options);
+  ~Pipeline();
+  Pipeline(Pipeline&&) noexcept;
+  Pipeline& operator=(Pipeline&&) noexcept;
+
+  [[nodiscard]] const std::string& output() const;
+  [[nodiscard]] bool has_report() const;
+  /// The configuration after --input/--output/--set, as YAML text.
+  [[nodiscard]] std::string resolved_config() const;
+  /// Runs every stage in order. On an error the report stage (if any) still writes a sidecar with
+  /// status "failed", and the error is rethrown.
+  PipelineResult run();
+
+ private:
+  struct Impl;
+  explicit Pipeline(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Stage types and, per type, its option names (for help texts and "did you mean").
+std::vector<std::pair<std::string, std::vector<std::string>>> pipeline_schema();
+
+}  // namespace scanmesh

@@ -1,0 +1,59 @@
+#pragma once
+// Quality reports a person can look at: for an output OUT.ext, OUT.report.json (the sidecar),
+// OUT.report/ with PNG figures rendered by OpenCV (histograms and views of the mesh), and OUT.report.html,
+// one self-contained page showing all of it. Options struct = schema of the `report` pipeline stage.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+struct ReportOptions {
+  std::string reference;  ///< ground-truth mesh (same faces for MSAE and flips); empty = none
+  bool figures = true;    ///< PNG figures and the HTML page (the JSON sidecar is always written)
+  int image_size = 720;   ///< rendered views are image_size x image_size pixels
+};
+
+/// One pipeline stage as the sidecar records it.
+struct StageRecord {
+  std::string type, tag;
+  double seconds = 0.0;
+  double peak_memory_mb = 0.0;  ///< process peak resident memory after the stage
+  std::size_t points = 0, vertices = 0, faces = 0;
+  std::string details;          ///< e.g. the parameters --auto chose
+};
+
+/// Everything a report is made from. `before` is the mesh as it entered the first stage that moved its
+/// vertices (for displacement), if any.
+struct ReportInput {
+  std::string output_path;
+  std::string tool_version;
+  std::string config_yaml;  ///< the resolved configuration, verbatim
+  std::uint64_t seed = 0;
+  int threads = 1;
+  std::string input_path;
+  std::size_t input_points = 0;
+  double input_spacing = 0.0, input_diagonal = 0.0;
+  std::vector<StageRecord> stages;
+  std::vector<std::string> warnings;
+  std::string status = "ok";
+  const Mesh* mesh = nullptr;    ///< the final mesh (null for cloud-only pipelines)
+  const Mesh* before = nullptr;  ///< the mesh before denoising, same vertex order (optional)
+  const Mesh* reference = nullptr;
+};
+
+/// The paths a report writes for an output path.
+struct ReportPaths {
+  std::string json, folder, html;
+};
+ReportPaths report_paths(const std::string& output_path);
+
+/// Writes the sidecar and, with options.figures, the figures and the page. Returns the figure files.
+std::vector<std::string> write_report(const ReportInput& input, const ReportOptions& options);
+
+/// Writes only a sidecar with status "failed" and the error (used when a run stops on an error).
+void write_failure_sidecar(const ReportInput& input, const std::string& error);
+
+}  // namespace scanmesh

@@ -1,0 +1,111 @@
+#include "scanmesh/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "helpers.h"
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/denoise.h"
+#include "scanmesh/mesh_io.h"
+#include "scanmesh/report.h"
+
+using namespace scanmesh;
+namespace fs = std::filesystem;
+
+namespace {
+
+class PipelineTest : public test::TempDirTest {
+ protected:
+  void SetUp() override {
+    TempDirTest::SetUp();
+    Mesh m = test::make_sphere(3);
+    for (std::size_t v = 0; v < m.num_vertices(); v += 3) m.positions[v] *= 1.01;  // a little noise
+    write_mesh(m, path("in.ply"));
+  }
+  // Loads a pipeline text and expects a ConfigError mentioning FILE:LINE and `needle`.
+  void expect_config_error(const std::string& yaml, int line, const std::string& needle) {
+    const std::string file = write("p.yaml", yaml);
+    try {
+      Pipeline::load(file, {});
+      ADD_FAILURE() << "no error for:\n" << yaml;
+    } catch (const ConfigError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(file + ":" + std::to_string(line) + ":"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(needle), std::string::npos) << "'" << needle << "' not in: " << msg;
+    }
+    EXPECT_FALSE(fs::exists(path("out.ply")));
+  }
+};
+
+}  // namespace
+
+TEST_F(PipelineTest, BadConfigsStopBeforeRunningWithFileAndLine) {
+  const std::string in = path("in.ply"), out = path("out.ply");
+  // yaml-cpp notices the unclosed bracket at the end of the document.
+  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    sigma_s: [0.5\n", 5, "YAML syntax error");
+  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoize\n  - " + out + "\n", 3, "did you mean 'mesh.denoise'");
+  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    sigma: 0.5\n  - " + out + "\n", 4,
+                      "unknown option 'sigma'; did you mean 'sigma_s'");
+  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    iterations: many\n  - " + out + "\n", 4,
+                      "key 'iterations': expected a whole number");
+  expect_config_error("pipeline:\n  - " + path("missing.ply") + "\n  - type: mesh.denoise\n  - " + out + "\n", 2, "does not exist");
+  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    tag: smooth\n  - type: mesh.cleanup\n    inputs: [smoth]\n  - " +
+                          out + "\n",
+                      6, "no earlier stage has the tag 'smoth'; did you mean 'smooth'");
+  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    estimator: median\n  - " + out + "\n", 4,
+                      "valid: tukey, gaussian, huber, lorentzian");
+}
+
+TEST_F(PipelineTest, RunsWritesAReportAndMatchesTheApi) {
+  const std::string yaml = "pipeline:\n  - " + path("in.ply") +
+                           "\n  - type: mesh.denoise\n    tag: d\n    iterations: 10\n  - type: report\n  - " + path("out.ply") + "\n";
+  Pipeline p = Pipeline::load(write("p.yaml", yaml), {});
+  const PipelineResult r = p.run();
+  ASSERT_TRUE(fs::exists(path("out.ply")));
+  const ReportPaths rp = report_paths(path("out.ply"));
+  const std::string json = read_file(rp.json);
+  EXPECT_NE(json.find("\"status\": \"ok\""), std::string::npos);
+  EXPECT_NE(json.find("\"stages\""), std::string::npos);
+  EXPECT_NE(json.find("triangle_quality"), std::string::npos);
+  EXPECT_TRUE(fs::exists(rp.html));
+  std::size_t pngs = 0;
+  for (const auto& e : fs::directory_iterator(rp.folder)) pngs += e.path().extension() == ".png" ? 1 : 0;
+  EXPECT_GE(pngs, 3u);
+  // The same through the C++ API gives the same bytes.
+  Mesh m = read_mesh(path("in.ply"));
+  DenoiseOptions o;
+  o.iterations = 10;
+  denoise(m, o);
+  write_mesh(m, path("api.ply"));
+  EXPECT_EQ(read_file(path("api.ply")), read_file(path("out.ply")));
+}
+
+TEST_F(PipelineTest, OverridesReplaceInputOutputAndOptions) {
+  const std::string yaml = "pipeline:\n  - " + path("nothing.ply") + "\n  - type: mesh.denoise\n    tag: d\n  - " + path("x.ply") + "\n";
+  PipelineOptions o;
+  o.input = path("in.ply");
+  o.output = path("out.ply");
+  o.sets = {"d.iterations=3", "d.sigma_s=0.5"};
+  Pipeline p = Pipeline::load(write("p.yaml", yaml), o);
+  EXPECT_EQ(p.output(), path("out.ply"));
+  EXPECT_NE(p.resolved_config().find("iterations: 3"), std::string::npos) << p.resolved_config();
+  p.run();
+  EXPECT_TRUE(fs::exists(path("out.ply")));
+  o.sets = {"nosuchtag.iterations=3"};
+  EXPECT_THROW(Pipeline::load(path("p.yaml"), o), ConfigError);
+  o.sets = {"d.iterations=lots"};
+  EXPECT_THROW(Pipeline::load(path("p.yaml"), o), ConfigError);
+}
+
+TEST(PipelineSchema, EveryStageTypeIsListed) {
+  const auto schema = pipeline_schema();
+  std::vector<std::string> types;
+  for (const auto& [t, keys] : schema) types.push_back(t);
+  for (const char* t : {"cloud.crop", "cloud.voxel", "cloud.outliers", "cloud.normals", "cloud.mls", "mesh.gp3", "mesh.organized",
+                        "mesh.poisson", "mesh.cleanup", "mesh.denoise", "mesh.noise", "scan.virtual", "report"})
+    EXPECT_NE(std::find(types.begin(), types.end(), t), types.end()) << t;
+  for (const auto& [t, keys] : schema)
+    if (t == "mesh.denoise")
+      for (const char* k : {"sigma_s", "lambda", "iterations", "auto"}) EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
+}

@@ -1,0 +1,77 @@
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "cli_common.h"
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/pipeline.h"
+#include "scanmesh/report.h"
+
+namespace scanmesh::cli {
+
+int run_pipeline(const std::vector<std::string>& args) {
+  po::options_description o("options");
+  o.add_options()
+    ("input", po::value<std::string>(), "replaces the pipeline's first reader (its input file)")
+    ("output", po::value<std::string>(), "replaces the pipeline's last writer (its output file)")
+    ("set", po::value<std::vector<std::string>>()->composing(),
+     "TAG.OPTION=VALUE: override a stage option (repeatable); a stage's type works as TAG when it is unique")
+    ("validate", po::bool_switch(), "check the pipeline (syntax, stages, options, files) without running it")
+    ("skip-existing", po::bool_switch(), "do nothing if the output exists and its report sidecar (if any) says status ok")
+    ("threads", po::value<int>()->default_value(0), "threads (0 = all cores); outputs do not depend on it")
+    ("quiet,q", po::bool_switch(), "print errors only");
+  po::variables_map vm;
+  if (!parse(args, o, {"PIPELINE"}, vm, "scanmesh run PIPELINE.yaml [options]",
+             "Runs a YAML pipeline (PDAL-style): a 'pipeline:' list whose first bare file name is the reader and last\n"
+             "the writer; stages are maps with 'type' (cloud.crop, cloud.voxel, cloud.outliers, cloud.normals,\n"
+             "cloud.mls, mesh.auto, mesh.gp3, mesh.organized, mesh.poisson, mesh.cleanup, mesh.denoise, mesh.noise,\n"
+             "scan.virtual, report), optional 'tag' and 'inputs'; other keys are the stage's options, named like the\n"
+             "command-line flags with underscores. Exit codes: 0 ok (or skipped), 1 failed on the data, 2 bad\n"
+             "configuration (the message names FILE:LINE, the stage, the key and the valid choices)."))
+    return kOk;
+  const bool quiet = vm["quiet"].as<bool>();
+  if (vm["threads"].as<int>() < 0) throw UsageError("--threads must be >= 0");
+  PipelineOptions options;
+  if (vm.count("input")) options.input = vm["input"].as<std::string>();
+  if (vm.count("output")) options.output = vm["output"].as<std::string>();
+  if (vm.count("set")) options.sets = vm["set"].as<std::vector<std::string>>();
+  options.threads = vm["threads"].as<int>();
+  std::unique_ptr<Progress> bar;
+  if (!quiet) {
+    options.progress = [&bar](const std::string& stage, int done, int total) {
+      if (!bar) bar = std::make_unique<Progress>(stage, false);
+      (*bar)(done, total);
+      if (done == total) bar.reset();
+    };
+    options.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  }
+  Pipeline pipeline = Pipeline::load(vm["PIPELINE"].as<std::string>(), options);
+  if (vm["validate"].as<bool>()) {
+    if (!quiet) std::fprintf(stderr, "%s: valid; output %s\n", vm["PIPELINE"].as<std::string>().c_str(), pipeline.output().c_str());
+    return kOk;
+  }
+  if (vm["skip-existing"].as<bool>() && !pipeline.output().empty() && std::filesystem::exists(pipeline.output())) {
+    bool ok = true;
+    if (pipeline.has_report()) {
+      const std::string json = report_paths(pipeline.output()).json;
+      ok = std::filesystem::exists(json) && read_file(json).find("\"status\": \"ok\"") != std::string::npos;
+    }
+    if (ok) {
+      if (!quiet) std::fprintf(stderr, "skipped: %s exists\n", pipeline.output().c_str());
+      return kOk;
+    }
+  }
+  const PipelineResult r = pipeline.run();
+  if (!quiet) {
+    std::fprintf(stderr, "[done, %.2f s] -> %s\n", r.seconds, r.output.c_str());
+    if (!r.report_files.empty()) {
+      const ReportPaths p = report_paths(r.output);
+      std::fprintf(stderr, "report: %s (page), %s (sidecar), %s/ (%zu figures)\n", p.html.c_str(), p.json.c_str(), p.folder.c_str(),
+                   r.report_files.size() >= 2 ? r.report_files.size() - 2 : 0);
+    }
+  }
+  return kOk;
+}
+
+}  // namespace scanmesh::cli
