@@ -159,6 +159,35 @@ TEST_F(Cli, MeshesACloudAndRejectsBadClouds) {
   EXPECT_EQ(run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("x.ply") + " --radius far").code, 2);
 }
 
+TEST_F(Cli, PipelineMatchesTheSubcommandsAndWritesAReport) {
+  const std::string config = std::string(SCANMESH_DATA_DIR) + "/../configs/scan_to_mesh.yaml";
+  const std::string scan = std::string(SCANMESH_DATA_DIR) + "/bun0.pcd";
+  Result r = run("run " + config + " --input " + scan + " --output " + path("p.ply") + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(run("mesh " + scan + " " + path("m.ply") + " -q").code, 0);
+  ASSERT_EQ(run("denoise " + path("m.ply") + " " + path("d.ply") + " --auto -q").code, 0);
+  EXPECT_EQ(scanmesh::read_file(path("p.ply")), scanmesh::read_file(path("d.ply")));
+  EXPECT_NE(scanmesh::read_file(path("p.report.json")).find("\"status\": \"ok\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(path("p.report.html")));
+  // --validate checks without running; --skip-existing leaves a finished output alone.
+  r = run("run " + config + " --input " + scan + " --output " + path("v.ply") + " --validate");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(path("v.ply")));
+  const auto before = fs::last_write_time(path("p.ply"));
+  r = run("run " + config + " --input " + scan + " --output " + path("p.ply") + " --skip-existing");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.err.find("skipped"), std::string::npos) << r.err;
+  EXPECT_EQ(fs::last_write_time(path("p.ply")), before);
+  // A bad configuration is a usage error naming FILE:LINE.
+  const std::string bad = write("bad.yaml", "pipeline:\n  - " + scan + "\n  - type: cloud.normalz\n  - " + path("b.ply") + "\n");
+  r = run("run " + bad);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(bad + ":3:"), std::string::npos) << r.err;
+  r = run("run " + config + " --set mesh.radiuss=3*spacing");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("did you mean 'radius'"), std::string::npos) << r.err;
+}
+
 TEST_F(Cli, HelpExplainsEveryParameter) {
   const Result r = run("denoise --help");
   EXPECT_EQ(r.code, 0);

@@ -40,21 +40,37 @@ class PipelineTest : public test::TempDirTest {
 
 }  // namespace
 
-TEST_F(PipelineTest, BadConfigsStopBeforeRunningWithFileAndLine) {
-  const std::string in = path("in.ply"), out = path("out.ply");
+// One test per kind of configuration error; each must stop before anything runs (no output file).
+TEST_F(PipelineTest, YamlSyntaxError) {
   // yaml-cpp notices the unclosed bracket at the end of the document.
-  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    sigma_s: [0.5\n", 5, "YAML syntax error");
-  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoize\n  - " + out + "\n", 3, "did you mean 'mesh.denoise'");
-  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    sigma: 0.5\n  - " + out + "\n", 4,
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    sigma_s: [0.5\n", 5, "YAML syntax error");
+}
+
+TEST_F(PipelineTest, UnknownStageType) {
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoize\n  - " + path("out.ply") + "\n", 3,
+                      "did you mean 'mesh.denoise'");
+}
+
+TEST_F(PipelineTest, UnknownKey) {
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    sigma: 0.5\n  - " + path("out.ply") + "\n", 4,
                       "unknown option 'sigma'; did you mean 'sigma_s'");
-  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    iterations: many\n  - " + out + "\n", 4,
+}
+
+TEST_F(PipelineTest, WrongValueType) {
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    iterations: many\n  - " + path("out.ply") + "\n", 4,
                       "key 'iterations': expected a whole number");
-  expect_config_error("pipeline:\n  - " + path("missing.ply") + "\n  - type: mesh.denoise\n  - " + out + "\n", 2, "does not exist");
-  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    tag: smooth\n  - type: mesh.cleanup\n    inputs: [smoth]\n  - " +
-                          out + "\n",
-                      6, "no earlier stage has the tag 'smoth'; did you mean 'smooth'");
-  expect_config_error("pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    estimator: median\n  - " + out + "\n", 4,
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    estimator: median\n  - " + path("out.ply") + "\n", 4,
                       "valid: tukey, gaussian, huber, lorentzian");
+}
+
+TEST_F(PipelineTest, MissingInputFile) {
+  expect_config_error("pipeline:\n  - " + path("missing.ply") + "\n  - type: mesh.denoise\n  - " + path("out.ply") + "\n", 2, "does not exist");
+}
+
+TEST_F(PipelineTest, UnknownTagInInputs) {
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    tag: smooth\n  - type: mesh.cleanup\n    inputs: [smoth]\n  - " +
+                          path("out.ply") + "\n",
+                      6, "no earlier stage has the tag 'smoth'; did you mean 'smooth'");
 }
 
 TEST_F(PipelineTest, RunsWritesAReportAndMatchesTheApi) {

@@ -45,6 +45,18 @@ std::string json_escape(const std::string& s) {
   return o;
 }
 
+std::string html_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
 std::string num(double v) {
   if (!std::isfinite(v)) return "null";
   std::ostringstream o;
@@ -388,8 +400,8 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
     h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>scanmesh report: " << std::filesystem::path(in.output_path).filename().string()
       << "</title>\n<style>body{font-family:sans-serif;margin:24px;max-width:1600px}img{max-width:760px;margin:6px;border:1px solid #ccc}"
          "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}th{background:#eee}</style></head><body>\n";
-    h << "<h1>scanmesh report</h1>\n<p>output: <code>" << in.output_path << "</code> &mdash; status: <b>" << in.status << "</b> &mdash; "
-      << "input: <code>" << in.input_path << "</code></p>\n";
+    h << "<h1>scanmesh report</h1>\n<p>output: <code>" << html_escape(in.output_path) << "</code> &mdash; status: <b>" << in.status
+      << "</b> &mdash; input: <code>" << html_escape(in.input_path) << "</code></p>\n";
     if (metrics) {
       const auto& t = metrics->topology;
       h << "<h2>Summary</h2><table><tr><th>vertices</th><th>faces</th><th>boundary loops</th><th>non-manifold edges</th><th>components</th>"
@@ -406,9 +418,9 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
     h << "<h2>Stages</h2><table><tr><th>stage</th><th>tag</th><th>seconds</th><th>peak MB</th><th>points</th><th>faces</th><th>details</th></tr>\n";
     for (const auto& s : in.stages)
       h << "<tr><td style=\"text-align:left\">" << s.type << "</td><td>" << s.tag << "</td><td>" << fmt(s.seconds, 3) << "</td><td>"
-        << fmt(s.peak_memory_mb, 4) << "</td><td>" << s.points << "</td><td>" << s.faces << "</td><td style=\"text-align:left\">" << s.details
+        << fmt(s.peak_memory_mb, 4) << "</td><td>" << s.points << "</td><td>" << s.faces << "</td><td style=\"text-align:left\">" << html_escape(s.details)
         << "</td></tr>\n";
-    h << "</table>\n<h2>Figures</h2>\n";
+    h << "</table>\n<h2>Configuration</h2><pre>" << html_escape(in.config_yaml) << "</pre>\n<h2>Figures</h2>\n";
     for (const auto& f : figures) {
       const std::string bytes = read_file(f);
       h << "<img alt=\"" << std::filesystem::path(f).filename().string() << "\" src=\"data:image/png;base64,"
@@ -416,7 +428,7 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
     }
     if (!in.warnings.empty()) {
       h << "<h2>Warnings</h2><ul>";
-      for (const auto& w : in.warnings) h << "<li>" << w << "</li>";
+      for (const auto& w : in.warnings) h << "<li>" << html_escape(w) << "</li>";
       h << "</ul>\n";
     }
     h << "</body></html>\n";
