@@ -1,5 +1,10 @@
 // scanmesh: thin command-line front end over the scanmesh libraries.
 // Exit codes: 0 ok, 1 bad input (file missing or malformed, or an output could not be written), 2 bad usage.
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <new>
 
@@ -24,6 +29,19 @@ const char* kHelp =
     "\n"
     "Mesh formats: .obj .off .ply .stl (ascii and binary). Run 'scanmesh COMMAND --help' for details.\n";
 
+#ifndef SCANMESH_EXT
+// `mesh`, `scan` and `run` live in scanmesh-ext beside this executable (see tools/CMakeLists.txt).
+[[noreturn]] void exec_extended(char** argv) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path ext = (ec ? std::filesystem::path(argv[0]) : self).parent_path() / "scanmesh-ext";
+  ::execv(ext.c_str(), argv);
+  std::cerr << "scanmesh " << argv[1] << ": error: cannot start '" << ext.string() << "': " << std::strerror(errno)
+            << " (it is built together with scanmesh)\n";
+  std::exit(1);
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -38,9 +56,13 @@ int main(int argc, char** argv) {
     if (command == "denoise") return cli::run_denoise(args);
     if (command == "noise") return cli::run_noise(args);
     if (command == "eval") return cli::run_eval(args);
+#ifdef SCANMESH_EXT
     if (command == "mesh") return cli::run_mesh(args);
     if (command == "scan") return cli::run_scan(args);
     if (command == "run") return cli::run_pipeline(args);
+#else
+    if (command == "mesh" || command == "scan" || command == "run") exec_extended(argv);
+#endif
     if (command == "version" || command == "--version") {
       std::cout << "scanmesh " SCANMESH_VERSION "\n";
       return cli::kOk;
