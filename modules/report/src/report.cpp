@@ -165,7 +165,7 @@ cv::Mat render_view(const Mesh& m, const Vec3& eye, const std::vector<cv::Scalar
     y0 = std::min(y0, p.dot(up));
     y1 = std::max(y1, p.dot(up));
   }
-  const double scale = 0.86 * size / std::max({x1 - x0, y1 - y0, 1e-300});
+  const double scale = 0.8 * size / std::max({x1 - x0, y1 - y0, 1e-300});  // room for title and colour bar
   const double cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
   auto project = [&](const Vec3& p) {
     return cv::Point(static_cast<int>(std::lround(size / 2.0 + (p.dot(right) - cx) * scale)),
