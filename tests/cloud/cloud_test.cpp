@@ -109,6 +109,23 @@ TEST(CloudStages, NormalsFaceTheSensor) {
   for (const auto& n : plane.normals) EXPECT_NEAR(n.z(), -1.0, 1e-6);
 }
 
+TEST(CloudStages, StoredNormalsOrientTheEstimatedOnes) {
+  // Both faces of a thin plate: propagation over the k-NN graph cannot tell the two sides apart, the
+  // stored (scanner) normals can.
+  PointCloud c;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      for (double z : {0.0, 0.02}) {
+        c.points.emplace_back(0.05 * i, 0.05 * j, z);
+        c.normals.emplace_back(0.3, 0.0, z > 0 ? 1.0 : -1.0);  // rough, but on the right side
+      }
+  c.width = static_cast<int>(c.size());
+  NormalOptions o;
+  o.neighbours = 8;
+  estimate_normals(c, o);
+  for (std::size_t i = 0; i < c.size(); ++i) EXPECT_GT(c.normals[i].z() * (c.points[i].z() > 0.01 ? 1.0 : -1.0), 0.9) << i;
+}
+
 TEST(CloudStages, CubeCornerNormalsAreAxisAligned) {
   PointCloud c;
   for (int i = 0; i < 12; ++i)

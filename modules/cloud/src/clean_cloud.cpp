@@ -166,7 +166,15 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
           n[i] = n[*j];
           break;
         }
-  if (o.orient && !cloud.sensor_origin) {
+  // Normals already in the cloud (from the scanner or its software) tell which side is out: agree with them.
+  const bool have_hints = cloud.has_normals() && cloud.normals.size() == cloud.size() && cloud.normals_oriented;
+  if (o.orient && have_hints) {
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Vec3& hint = cloud.normals[index[i]];
+      if (hint.allFinite() && n[i].dot(hint) < 0.0) n[i] = -n[i];
+    }
+  }
+  if (o.orient && !cloud.sensor_origin && !have_hints) {
     // Hoppe-style propagation: grow from the highest point (normal turned up), always taking next the
     // neighbour whose normal is most parallel to an oriented one, flipping it to agree.
     // Connected parts of the kNN graph (treated as undirected), each started at its highest point.
@@ -220,6 +228,7 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
     }
   }
   cloud.normals.assign(cloud.size(), Vec3::Constant(std::nan("")));
+  cloud.normals_oriented = o.orient;
   for (std::size_t i = 0; i < pts.size(); ++i) cloud.normals[index[i]] = n[i];
 }
 

@@ -61,6 +61,7 @@ PointCloud from_blob(const pcl::PCLPointCloud2& blob, const std::string& path, c
   // is; for unorganized clouds it usually only means "unknown", so it is not used there.
   if (o.head<3>().allFinite() && o.head<3>().norm() > 0.0f) out.sensor_origin = o.head<3>().cast<double>();
   else if (out.height > 1) out.sensor_origin = Vec3::Zero();
+  else out.normals_oriented = false;
   out.sensor_orientation = q.toRotationMatrix().cast<double>();
   return out;
 }

@@ -41,8 +41,9 @@ void remove_outliers(PointCloud& cloud, const OutlierOptions& options, const Clo
 
 struct NormalOptions {
   int neighbours = 20;  ///< k nearest neighbours for the PCA plane
-  /// Orientation: towards the sensor when the cloud knows it, else propagated consistently over the
-  /// k-nearest-neighbour graph (Hoppe et al. 1992), starting outwards from the highest point.
+  /// Orientation: towards the sensor when the cloud knows it; else agreeing with normals the cloud already
+  /// has (e.g. from the scanner); else propagated consistently over the k-nearest-neighbour graph (Hoppe
+  /// et al. 1992), starting outwards from the highest point.
   bool orient = true;
 };
 /// Estimates unit normals (PCL NormalEstimationOMP; deterministic). Points without enough neighbours

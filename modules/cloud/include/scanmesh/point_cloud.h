@@ -14,6 +14,9 @@ namespace scanmesh {
 struct PointCloud {
   std::vector<Vec3> points;
   std::vector<Vec3> normals;                       ///< empty or one per point
+  /// Whether `normals` tell which side is outside (used to orient re-estimated normals). False for PCD
+  /// normals without a real VIEWPOINT: PCL turns them towards the default viewpoint at the origin.
+  bool normals_oriented = true;
   std::vector<std::array<std::uint8_t, 3>> colours;  ///< empty or one per point (r, g, b)
   int width = 0;   ///< points per row (== size for unorganized clouds)
   int height = 1;  ///< rows (1 for unorganized clouds)

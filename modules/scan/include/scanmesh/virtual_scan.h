@@ -25,7 +25,8 @@ struct VirtualScanOptions {
 /// and orientation. Deterministic for a seed, whatever the thread count.
 std::vector<PointCloud> virtual_scan(const Mesh& mesh, const VirtualScanOptions& options);
 
-/// All finite points of the views in one unorganized cloud.
+/// All finite points of the views in one unorganized cloud; each point's normal is the unit direction
+/// towards the sensor that saw it (merging loses the viewpoints; this keeps what orientation needs).
 PointCloud merge_scans(const std::vector<PointCloud>& views);
 
 }  // namespace scanmesh
