@@ -134,8 +134,10 @@ AutoParameters estimate_parameters(const Mesh& mesh, const DenoiseOptions& base)
   } else if (a.feature_fraction >= kFeatureFraction) {
     // Sharp features (CAD parts, buildings, machined objects): Tukey stops diffusion across them, so
     // many iterations remove noise on the flat and gently curved parts without rounding the edges.
-    // Strong noise spreads the normals further apart and needs a wider similarity kernel.
-    o.sigma_s = a.noise_level < 0.5 ? 0.55 : 0.8;
+    // Strong noise spreads the normals further apart and needs a wider similarity kernel. Noise that
+    // survives the light pre-smoothing shows up as extra "features" (scans merged from several views,
+    // fandisk-0.7: over 20% of the faces), so that counts as strong noise too.
+    o.sigma_s = a.noise_level < 0.5 && a.feature_fraction < 0.2 ? 0.55 : 0.8;
     o.lambda = 0.3;
     o.iterations = 150;
   } else {
