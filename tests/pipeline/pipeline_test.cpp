@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "helpers.h"
+#include "scanmesh/add_noise.h"
 #include "scanmesh/atomic_file.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/mesh_io.h"
@@ -112,6 +113,31 @@ TEST_F(PipelineTest, OverridesReplaceInputOutputAndOptions) {
   EXPECT_THROW(Pipeline::load(path("p.yaml"), o), ConfigError);
   o.sets = {"d.iterations=lots"};
   EXPECT_THROW(Pipeline::load(path("p.yaml"), o), ConfigError);
+}
+
+TEST_F(PipelineTest, BareListAndInputsTakeDataFromATaggedStage) {
+  // A bare list (no 'pipeline:' key); the cleanup takes the noisy mesh, skipping the denoiser's output.
+  const std::string yaml = "- " + path("in.ply") + "\n- type: mesh.noise\n  tag: noisy\n  level: 0.5\n- type: mesh.denoise\n  iterations: 20\n"
+                           "- type: mesh.cleanup\n  inputs: noisy\n- " + path("out.ply") + "\n";
+  Pipeline::load(write("p.yaml", yaml), {}).run();
+  Mesh noisy = read_mesh(path("in.ply"));
+  NoiseOptions n;
+  n.level = 0.5;
+  add_noise(noisy, n);
+  const Mesh out = read_mesh(path("out.ply"));
+  EXPECT_EQ(out.positions, noisy.positions);  // the denoised branch was not used
+}
+
+TEST_F(PipelineTest, AFailingRunLeavesAFailedSidecarAndNoOutput) {
+  // Organized meshing needs an organized cloud: the run fails on the data (not the configuration).
+  write("c.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
+  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: mesh.organized\n  - type: report\n  - " + path("out.ply") + "\n";
+  Pipeline p = Pipeline::load(write("p.yaml", yaml), {});
+  EXPECT_THROW(p.run(), Error);
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+  const std::string json = read_file(report_paths(path("out.ply")).json);
+  EXPECT_NE(json.find("\"status\": \"failed\""), std::string::npos) << json;
+  EXPECT_NE(json.find("mesh.organized"), std::string::npos) << json;
 }
 
 TEST(PipelineSchema, EveryStageTypeIsListed) {
