@@ -86,7 +86,9 @@ int run_mesh(const std::vector<std::string>& args) {
   const std::size_t points_in = cloud.finite_count();
   clock.done("read", std::to_string(points_in) + " points" + (cloud.organized() ? " (organized " + std::to_string(cloud.width) + "x" + std::to_string(cloud.height) + ")" : ""));
   const CloudScale scale = measure_scale(cloud);
-  clock.done("scale", "spacing " + std::to_string(scale.spacing) + ", diagonal " + std::to_string(scale.diagonal));
+  char scale_line[96];
+  std::snprintf(scale_line, sizeof scale_line, "mean point spacing %.4g, bounding-box diagonal %.4g", scale.spacing, scale.diagonal);
+  clock.done("scale", scale_line);
   if (voxel.leaf.value > 0.0) {
     voxel_downsample(cloud, voxel, scale);
     clock.done("voxel", std::to_string(cloud.size()) + " points");
