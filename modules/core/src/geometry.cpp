@@ -1,6 +1,8 @@
 #include "scanmesh/geometry.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace scanmesh {
 
@@ -29,6 +31,14 @@ void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector
     out.normals[f] = triangle_normal(a, b, c, &out.areas[f]);
     out.centroids[f] = (a + b + c) / 3.0;
   }
+}
+
+double triangle_shape(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+  const double twice_area = (b - a).cross(c - a).norm();
+  const double shortest = std::min({la, lb, lc});
+  if (!(twice_area > 0.0) || !(shortest > 0.0)) return std::numeric_limits<double>::infinity();
+  return la * lb * lc / (2.0 * twice_area) / shortest;  // circumradius = abc / (4 area)
 }
 
 double mean_edge_length(const Mesh& mesh, const Topology& topology) {

@@ -247,19 +247,6 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
   }
 }
 
-namespace {
-
-// Circumradius over shortest edge (1/sqrt(3) for an equilateral triangle; infinite when degenerate).
-double shape(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
-  const double area2 = (b - a).cross(c - a).norm();  // twice the area
-  const double shortest = std::min({la, lb, lc});
-  if (!(area2 > 0.0) || !(shortest > 0.0)) return std::numeric_limits<double>::infinity();
-  return la * lb * lc / (2.0 * area2) / shortest;
-}
-
-}  // namespace
-
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
                             const BoundaryCurves& curves, double window) {
   // Local quadratic least-squares fit of each loop as a function of arc length (a Savitzky-Golay filter):
@@ -333,7 +320,7 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
           // The triangle may turn by less than 45 degrees, and its shape (circumradius / shortest edge)
           // must stay below 1.5 or not get worse.
           ok = after.dot(before) >= std::cos(0.7853981633974483) * after.norm() * before.norm() &&
-               shape(p[0], p[1], p[2]) <= std::max(1.5, shape(positions[t[0]], positions[t[1]], positions[t[2]]));
+               triangle_shape(p[0], p[1], p[2]) <= std::max(1.5, triangle_shape(positions[t[0]], positions[t[1]], positions[t[2]]));
         }
         if (ok) {
           out[i] = start + move;

@@ -15,15 +15,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double triangle_quality(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
-  const double area = 0.5 * (b - a).cross(c - a).norm();
-  const double shortest = std::min({la, lb, lc});
-  if (!(area > 0.0) || !(shortest > 0.0)) return std::numeric_limits<double>::infinity();
-  const double circumradius = la * lb * lc / (4.0 * area);
-  return circumradius / shortest;
-}
-
 // Distances from every vertex of `from` to the surface `to`.
 std::vector<double> distances_to(const Mesh& from, const Mesh& to) {
   ClosestPointIndex index(to);
@@ -87,7 +78,7 @@ MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference) {
 #pragma omp parallel for schedule(static)
   for (long f = 0; f < nf; ++f) {
     const Face& t = mesh.faces[f];
-    m.face_quality[f] = triangle_quality(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    m.face_quality[f] = triangle_shape(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
   }
   std::size_t finite = 0;
   for (double q : m.face_quality)

@@ -23,6 +23,10 @@ void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector
 /// Unit normal and area of one triangle (zero normal if degenerate).
 Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c, double* area = nullptr);
 
+/// Triangle shape Q = circumradius / shortest edge (1/sqrt(3) for an equilateral triangle, larger is worse;
+/// +infinity for a degenerate triangle).
+double triangle_shape(const Vec3& a, const Vec3& b, const Vec3& c);
+
 /// Mean length over the mesh's unique edges (0 for a mesh without edges).
 double mean_edge_length(const Mesh& mesh, const Topology& topology);
 
