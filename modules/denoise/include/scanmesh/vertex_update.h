@@ -24,6 +24,10 @@ struct BoundaryCurves {
   std::vector<int> prev, next;            ///< per vertex: boundary neighbours (-1 if none/irregular)
   std::vector<std::array<int, 2>> vertex_edges;  ///< per vertex: incident loop edges (-1 if none)
   std::vector<std::uint8_t> corner;  ///< per vertex: 1 where the input boundary turns by > 50 deg, or is irregular
+  /// Per vertex: 1 on loops so ragged (mean turn between consecutive edges > 70 deg, e.g. the pixel
+  /// staircase of a depth-camera scan) that no curve describes them; such vertices are treated like
+  /// interior ones, as in the paper.
+  std::vector<std::uint8_t> ragged;
   std::vector<Vec3> normals;  ///< per edge: filtered in-surface outward normal (filter_boundary_normals)
 };
 
