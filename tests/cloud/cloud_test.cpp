@@ -6,6 +6,7 @@
 #include "helpers.h"
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/errors.h"
+#include "scanmesh/atomic_file.h"
 #include "scanmesh/length.h"
 #include "scanmesh/cloud_io.h"
 
@@ -188,4 +189,32 @@ TEST_F(CloudIo, BadCloudsGiveClearErrors) {
   expect_error(write("words.xyz", "0 0 zero\n"), "not a number");
   expect_error(write("cloud.las", "LASF"), "unknown point-cloud format");
   expect_error(path("missing.pcd"), "No such file");
+}
+
+TEST_F(CloudIo, ReadersSurviveMutatedFiles) {
+  // Truncated and corrupted clouds: a valid cloud or an InputError, never a crash or another exception.
+  PointCloud c = plane_cloud(12, 0.1, 0.01, 5);
+  c.normals.assign(c.size(), Vec3(0, 0, 1));
+  write_cloud_pcd(c, path("valid.pcd"));  // binary_compressed
+  write_cloud_ply(c, path("valid.ply"));
+  const std::string ascii_pcd = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n"
+                                "0 0 0\n1 0 0\n0 1 0.5\n";
+  const std::vector<std::pair<std::string, std::string>> valid = {
+      {".pcd", scanmesh::read_file(path("valid.pcd"))}, {".ply", scanmesh::read_file(path("valid.ply"))},
+      {".pcd", ascii_pcd}, {".xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n"}};
+  std::mt19937 rng(17);
+  for (const auto& [ext, bytes0] : valid)
+    for (int round = 0; round < 120; ++round) {
+      std::string bytes = bytes0;
+      if (round % 2 == 0) bytes.resize(std::uniform_int_distribution<std::size_t>(0, bytes.size())(rng));
+      else
+        for (int k = 0; k < 4; ++k) bytes[std::uniform_int_distribution<std::size_t>(0, bytes.size() - 1)(rng)] = static_cast<char>(rng());
+      const std::string file = write("fuzz" + ext, bytes);
+      try {
+        read_cloud(file);
+      } catch (const InputError&) {
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << ext << " round " << round << ": unexpected exception " << e.what();
+      }
+    }
 }
