@@ -35,6 +35,11 @@ int run_denoise(const std::vector<std::string>& args) {
      "ball (all faces within the radius) or connected_ball (only through adjacent faces: thin parts do not mix)")
     ("recompute-neighbourhoods", po::bool_switch(), "rebuild neighbourhoods every iteration (slower)")
     ("free-boundary", po::bool_switch(), "let boundary vertices move like interior ones (they drift inwards)")
+    ("boundary-window", po::value<double>()->default_value(defaults.boundary_window),
+     "width of the boundary-curve fit, in mean boundary edge lengths (0.5..10); wider smooths boundaries more")
+    ("feature-aware-fidelity", po::bool_switch(),
+     "fidelity term that moves vertices only along sharp edges, not across them (keeps clean CAD parts exact; "
+     "measured worse on noisy fandisk)")
     ("threads", po::value<int>()->default_value(0), "threads (0 = all cores); the output does not depend on it")
     ("ascii", po::bool_switch(), "write PLY/STL as text instead of binary")
     ("quiet,q", po::bool_switch(), "print errors only");
@@ -58,6 +63,8 @@ int run_denoise(const std::vector<std::string>& args) {
   options.neighbourhood = parse_neighbourhood(vm["neighbourhood"].as<std::string>());
   options.recompute_neighbourhoods = vm["recompute-neighbourhoods"].as<bool>();
   options.keep_boundary = !vm["free-boundary"].as<bool>();
+  options.boundary_window = vm["boundary-window"].as<double>();
+  options.feature_aware_fidelity = vm["feature-aware-fidelity"].as<bool>();
   validate(options);  // fail on bad usage before reading a large file
 
   const auto t0 = std::chrono::steady_clock::now();
