@@ -24,8 +24,8 @@ int run_denoise(const std::vector<std::string>& args) {
     ("iterations", po::value<int>(),
      "iterations p (>= 0; default 60). More removes more noise; too many over-smooth organic shapes")
     ("auto", po::bool_switch(),
-     "estimate the noise level and features of the mesh and choose sigma_s, lambda and iterations from "
-     "them; explicitly given values still win")
+     "estimate the noise level and features of the mesh and choose sigma_s, lambda, iterations (and the "
+     "radius factor) from them; explicitly given values still win")
     ("decay", po::value<double>()->default_value(defaults.decay), "lambda_I <- decay * lambda_I per iteration (0..1)")
     ("radius-factor", po::value<double>()->default_value(defaults.radius_factor),
      "neighbourhood radius in units of c_a, the mean distance between adjacent face centroids (0.5..10)")
@@ -74,13 +74,15 @@ int run_denoise(const std::vector<std::string>& args) {
 
   if (vm["auto"].as<bool>()) {
     const AutoParameters a = estimate_parameters(mesh, options);
+    const double given_radius = options.radius_factor;
     options = a.options;
+    if (!vm["radius-factor"].defaulted()) options.radius_factor = given_radius;
     if (!quiet && a.options.iterations == 0)
       std::fprintf(stderr, "auto: %.0f%% of the vertices lie exactly in the plane of their faces: the mesh is already "
                            "noise-free, leaving it as it is (give --iterations to force)\n", 100.0 * a.exact_plane_fraction);
     else if (!quiet)
-      std::fprintf(stderr, "auto: noise %.3f x mean edge, %.1f%% feature faces -> sigma_s %.3g, lambda %.3g, iterations %d\n",
-                   a.noise_level, 100.0 * a.feature_fraction, options.sigma_s, options.lambda, options.iterations);
+      std::fprintf(stderr, "auto: noise %.3f x mean edge, %.1f%% feature faces -> sigma_s %.3g, lambda %.3g, iterations %d, radius factor %.3g\n",
+                   a.noise_level, 100.0 * a.feature_fraction, options.sigma_s, options.lambda, options.iterations, options.radius_factor);
   }
   else if (!quiet) {
     const double plane = exact_plane_fraction(mesh);

@@ -242,7 +242,7 @@ struct CleanupStage : Stage {
 struct DenoiseStage : Stage {
   DenoiseOptions o;
   bool auto_params = false, free_boundary = false;
-  bool set_sigma = false, set_lambda = false, set_iterations = false;
+  bool set_sigma = false, set_lambda = false, set_iterations = false, set_radius = false;
   double sigma_s = 0, lambda = 0;
   int iterations = 0;
   void bind(Binder& b) override {
@@ -266,6 +266,7 @@ struct DenoiseStage : Stage {
     set_sigma = b.present("sigma_s");
     set_lambda = b.present("lambda");
     set_iterations = b.present("iterations");
+    set_radius = b.present("radius_factor");
   }
   void run(Data& d, RunContext& ctx) override {
     Mesh& m = need_mesh(d, "mesh.denoise");
@@ -279,12 +280,14 @@ struct DenoiseStage : Stage {
       if (!set_sigma) opt.sigma_s = a.options.sigma_s;
       if (!set_lambda) opt.lambda = a.options.lambda;
       if (!set_iterations) opt.iterations = a.options.iterations;
+      if (!set_radius) opt.radius_factor = a.options.radius_factor;
       char buf[160];
       std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge, %.1f%% feature faces -> ", a.noise_level, 100.0 * a.feature_fraction);
       details = buf;
     }
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, iterations %d", opt.sigma_s, opt.lambda, opt.iterations);
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, iterations %d, radius factor %.3g", opt.sigma_s, opt.lambda,
+                  opt.iterations, opt.radius_factor);
     details += buf;
     if (!d.before) d.before = m;
     const auto* progress = &ctx.options->progress;

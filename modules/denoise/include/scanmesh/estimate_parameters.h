@@ -26,7 +26,8 @@ double exact_plane_fraction(const Mesh& mesh);
 /// Share of faces next to an edge with a dihedral angle above 35 degrees, after light pre-smoothing.
 double feature_fraction(const Mesh& mesh);
 
-/// Chooses sigma_s, lambda_I and the iteration count for `mesh`; other fields come from `base`.
+/// Chooses sigma_s, lambda_I, the iteration count and (for sharp-featured meshes) the neighbourhood radius
+/// factor for `mesh`; other fields come from `base`.
 /// A mesh that is evidently noise-free (exact_plane_fraction >= 0.1) gets 0 iterations.
 AutoParameters estimate_parameters(const Mesh& mesh, const DenoiseOptions& base = {});
 
