@@ -27,10 +27,7 @@ std::vector<double> distances_to(const Mesh& from, const Mesh& to) {
 
 bool is_closed(const TopologyStats& t) { return t.boundary_edges == 0 && t.nonmanifold_edges == 0 && t.faces > 0; }
 
-}  // namespace
-
-TopologyStats topology_stats(const Mesh& mesh) {
-  const Topology topo = build_topology(mesh);
+TopologyStats stats_of(const Mesh& mesh, const Topology& topo) {
   TopologyStats s;
   s.vertices = mesh.num_vertices();
   s.faces = mesh.num_faces();
@@ -60,6 +57,10 @@ TopologyStats topology_stats(const Mesh& mesh) {
   return s;
 }
 
+}  // namespace
+
+TopologyStats topology_stats(const Mesh& mesh) { return stats_of(mesh, build_topology(mesh)); }
+
 double signed_volume(const Mesh& mesh) {
   double v = 0.0;
   for (const Face& f : mesh.faces)
@@ -69,9 +70,10 @@ double signed_volume(const Mesh& mesh) {
 
 MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference) {
   MeshMetrics m;
-  m.topology = topology_stats(mesh);
+  const Topology topo = build_topology(mesh);  // built once, shared by every measure below
+  m.topology = stats_of(mesh, topo);
   m.bbox_diagonal = bbox_diagonal(mesh.positions);
-  m.mean_edge_length = mean_edge_length(mesh, build_topology(mesh));
+  m.mean_edge_length = mean_edge_length(mesh, topo);
 
   const auto nf = static_cast<long>(mesh.num_faces());
   m.face_quality.resize(mesh.num_faces());
@@ -110,7 +112,6 @@ MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference) {
   }
 
   m.vertex_distance = distances_to(mesh, *reference);
-  const Topology topo = build_topology(mesh);
   double wsum = 0.0, wd2 = 0.0;
   for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
     double area = 0.0;
