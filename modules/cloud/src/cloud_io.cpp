@@ -146,7 +146,7 @@ PointCloud read_ply_cloud(const std::string& path, const std::string& data, std:
   const bool range_grid = header.find("element range_grid") != std::string::npos;
   if (!range_grid) {
     // Plain PLY point clouds (any scalar types, e.g. double) through scanmesh's own PLY reader.
-    const Mesh m = read_ply_points(path, &warnings);
+    const Mesh m = decode_ply_points(data, path, &warnings);  // the bytes read_cloud already holds
     PointCloud cloud;
     cloud.points = m.positions;
     cloud.width = static_cast<int>(m.positions.size());

@@ -70,6 +70,15 @@ std::string read_file(const std::string& path) {
   return data;
 }
 
+std::string read_file_head(const std::string& path, std::size_t max_bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
+  std::string data(max_bytes, '\0');
+  data.resize(std::fread(data.data(), 1, max_bytes, f));
+  std::fclose(f);
+  return data;
+}
+
 bool same_file(const std::string& a, const std::string& b) {
   std::error_code ec;
   return std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec) &&

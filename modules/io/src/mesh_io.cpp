@@ -56,13 +56,16 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   return mesh;
 }
 
-Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings) {
-  const std::string data = read_file(path);
-  if (data.empty()) throw InputError("'" + path + "': file is empty");
+Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings) {
+  if (data.empty()) throw InputError("'" + file + "': file is empty");
   std::vector<std::string> local;
-  Mesh mesh = detail::read_ply(data, path, warnings != nullptr ? *warnings : local, false);
-  if (mesh.positions.empty()) throw InputError("'" + path + "': contains no vertices");
+  Mesh mesh = detail::read_ply(data, file, warnings != nullptr ? *warnings : local, false);
+  if (mesh.positions.empty()) throw InputError("'" + file + "': contains no vertices");
   return mesh;
+}
+
+Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings) {
+  return decode_ply_points(read_file(path), path, warnings);
 }
 
 std::string encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options) {

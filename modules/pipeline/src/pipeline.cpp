@@ -82,7 +82,7 @@ struct ReaderStage : Stage {
     bool as_mesh = is_mesh_extension(ext) && ext != ".ply";
     if (ext == ".ply") {
       // A PLY with faces is a mesh, without faces a cloud.
-      const std::string head = read_file(filename).substr(0, 4096);
+      const std::string head = read_file_head(filename, 4096);
       as_mesh = head.find("element face") != std::string::npos && head.find("element face 0\n") == std::string::npos;
     }
     if (as_mesh) {

@@ -8,6 +8,7 @@
 // "v x y z r g b" colours, OFF keeps COFF colours. STL has no shared vertices: identical corner
 // coordinates are welded into one vertex, in order of first appearance.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "scanmesh/mesh.h"
@@ -22,6 +23,8 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nul
 /// Reads the vertices (with all their properties) and, if present, the faces of a PLY file: for point
 /// clouds stored as PLY. Throws InputError like read_mesh (but a file without faces is fine).
 Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings = nullptr);
+/// The same on a PLY file's bytes already in memory; `file` names it in messages.
+Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings = nullptr);
 
 /// How a mesh is encoded on disk.
 struct WriteOptions {
