@@ -19,14 +19,20 @@ constexpr double kExactPlaneFraction = 0.1;
 // Scales estimate_noise_level to the noise level's usual definition (see there).
 constexpr double kCalibration = 0.9;
 
-}  // namespace
+// What the estimators share, computed once per mesh.
+struct Analysis {
+  Topology topo;
+  FaceGeometry geometry;
+  double edge = 0.0;
+  explicit Analysis(const Mesh& mesh) : topo(build_topology(mesh)), edge(mean_edge_length(mesh, topo)) {
+    compute_face_geometry(mesh.positions, mesh.faces, geometry);
+  }
+};
 
-double exact_plane_fraction(const Mesh& mesh) {
-  const Topology topo = build_topology(mesh);
-  const double edge = mean_edge_length(mesh, topo);
-  if (!(edge > 0.0)) return 0.0;
-  FaceGeometry g;
-  compute_face_geometry(mesh.positions, mesh.faces, g);
+double exact_plane_fraction(const Mesh& mesh, const Analysis& an) {
+  const Topology& topo = an.topo;
+  const FaceGeometry& g = an.geometry;
+  if (!(an.edge > 0.0)) return 0.0;
   std::size_t flat = 0, counted = 0;
   for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
     if (topo.vertex_faces.size(i) == 0) continue;
@@ -42,13 +48,11 @@ double exact_plane_fraction(const Mesh& mesh) {
   return counted > 0 ? static_cast<double>(flat) / static_cast<double>(counted) : 0.0;
 }
 
-double estimate_noise_level(const Mesh& mesh) {
-  const Topology topo = build_topology(mesh);
-  const double edge = mean_edge_length(mesh, topo);
+double estimate_noise_level(const Mesh& mesh, const Analysis& an) {
+  const Topology& topo = an.topo;
+  const double edge = an.edge;
   if (!(edge > 0.0)) return 0.0;
-  FaceGeometry g;
-  compute_face_geometry(mesh.positions, mesh.faces, g);
-  const std::vector<Vec3> normals = vertex_normals(topo, g);
+  const std::vector<Vec3> normals = vertex_normals(topo, an.geometry);
   const auto nv = static_cast<long>(mesh.num_vertices());
   // Signed height of each vertex over the plane of its one-ring (normal = its vertex normal). Curvature
   // makes these heights vary slowly over the surface, noise makes them jump from vertex to vertex, so
@@ -88,6 +92,12 @@ double estimate_noise_level(const Mesh& mesh) {
   return kCalibration * values[values.size() / 2] / 0.6745 / edge;
 }
 
+}  // namespace
+
+double exact_plane_fraction(const Mesh& mesh) { return exact_plane_fraction(mesh, Analysis(mesh)); }
+
+double estimate_noise_level(const Mesh& mesh) { return estimate_noise_level(mesh, Analysis(mesh)); }
+
 double feature_fraction(const Mesh& mesh) {
   // Pre-smooth a copy lightly so that noise does not look like features, then count the faces next to an
   // edge whose dihedral angle exceeds 35 degrees.
@@ -115,8 +125,9 @@ double feature_fraction(const Mesh& mesh) {
 AutoParameters estimate_parameters(const Mesh& mesh, const DenoiseOptions& base) {
   AutoParameters a;
   a.options = base;
-  a.noise_level = estimate_noise_level(mesh);
-  a.exact_plane_fraction = exact_plane_fraction(mesh);
+  const Analysis analysis(mesh);
+  a.noise_level = estimate_noise_level(mesh, analysis);
+  a.exact_plane_fraction = exact_plane_fraction(mesh, analysis);
   DenoiseOptions& o = a.options;
   if (a.exact_plane_fraction >= kExactPlaneFraction) {
     // Scanner noise never leaves vertices exactly in their neighbours' plane; a CAD tessellation or an
