@@ -187,7 +187,9 @@ TEST_F(CloudIo, BadCloudsGiveClearErrors) {
   expect_error(write("truncated.pcd", header + "DATA binary\n" + std::string(100, '\0')), "truncated");
   expect_error(write("columns.xyz", "0 0 0\n1 0\n"), "columns");
   expect_error(write("words.xyz", "0 0 zero\n"), "not a number");
-  expect_error(write("cloud.las", "LASF"), "unknown point-cloud format");
+  expect_error(write("cloud.las", "LASF"), "pdal translate");
+  expect_error(write("cloud.e57", "ASTM"), "not supported");
+  expect_error(write("cloud.obj", "v 0 0 0\n"), "unknown point-cloud format");
   expect_error(path("missing.pcd"), "No such file");
 }
 

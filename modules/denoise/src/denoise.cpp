@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cmath>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/geometry.h"
@@ -61,7 +60,8 @@ void validate(const DenoiseOptions& o) {
         "boundary_window must be in [0.5, 10]; got " + std::to_string(o.boundary_window));
 }
 
-DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress) {
+DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
+                      const IterationObserver& observer) {
   validate(options);
   DenoiseReport report;
   if (mesh.faces.empty() || options.iterations == 0) return report;
@@ -108,6 +108,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     lambda *= options.decay;
     ++report.iterations;
     if (progress) progress(it + 1, options.iterations);
+    if (observer) observer(it + 1, positions);
   }
   mesh.positions = std::move(positions);
 

@@ -12,7 +12,7 @@ namespace scanmesh::detail {
 Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
 Mesh read_off(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
 Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings,
-              bool require_faces = true);
+              bool require_faces = true, RangeGrid* grid = nullptr);
 Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
 
 std::string write_obj(const Mesh& mesh);

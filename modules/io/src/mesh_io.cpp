@@ -56,10 +56,10 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   return mesh;
 }
 
-Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings) {
+Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings, RangeGrid* grid) {
   if (data.empty()) throw InputError("'" + file + "': file is empty");
   std::vector<std::string> local;
-  Mesh mesh = detail::read_ply(data, file, warnings != nullptr ? *warnings : local, false);
+  Mesh mesh = detail::read_ply(data, file, warnings != nullptr ? *warnings : local, false, grid);
   if (mesh.positions.empty()) throw InputError("'" + file + "': contains no vertices");
   return mesh;
 }

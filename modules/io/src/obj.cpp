@@ -22,8 +22,8 @@ Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::s
     const std::string_view key = s.token();
     if (key == "v") {
       double xyz[3];
-      for (double& c : xyz)
-        if (!s.parse_double(s.token(), c)) s.fail("vertex needs three numeric coordinates");
+      const std::string what = "vertex " + std::to_string(mesh.positions.size() + 1);
+      for (double& c : xyz) c = s.finite_number(s.token(), what);
       mesh.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
       if (s.at_line_end()) {
         all_coloured = false;

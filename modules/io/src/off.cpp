@@ -39,7 +39,7 @@ Mesh read_off(std::string_view data, const std::string& file, std::vector<std::s
     for (int c = 0; c < 3; ++c) {
       const std::string_view tok = s.any_token(true);
       if (tok.empty()) s.fail("file ends after " + std::to_string(v) + " of " + std::to_string(nv) + " vertices (truncated?)");
-      if (!s.parse_double(tok, mesh.positions[v][c])) s.fail("vertex " + std::to_string(v) + " has a non-numeric coordinate '" + std::string(tok) + "'");
+      mesh.positions[v][c] = s.finite_number(tok, "vertex " + std::to_string(v));
     }
     if (coloured) {
       for (int c = 0; c < 3; ++c) {

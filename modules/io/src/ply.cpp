@@ -1,7 +1,9 @@
 // PLY (Stanford polygon format): ascii, binary_little_endian and binary_big_endian.
 // Every scalar vertex property is kept with its type; faces come from the list property
 // "vertex_indices" (or "vertex_index"); other elements are skipped with a warning.
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 #include "formats.h"
@@ -89,8 +91,10 @@ class ValueReader {
     if (enc_ == Encoding::ascii) {
       const std::string_view tok = text_.any_token(false);
       if (tok.empty()) text_.fail("file ends while reading " + what(e, item) + " (truncated?)");
-      double v;
-      if (!text_.parse_double(tok, v)) text_.fail("non-numeric value '" + std::string(tok.substr(0, 20)) + "' in " + what(e, item));
+      double v = 0.0;
+      const auto st = TextScanner::parse_number(tok, v);
+      if (st == TextScanner::NumberStatus::out_of_range) text_.fail("value '" + std::string(tok.substr(0, 30)) + "' in " + what(e, item) + " is too large for a double");
+      if (st != TextScanner::NumberStatus::ok) text_.fail("non-numeric value '" + std::string(tok.substr(0, 20)) + "' in " + what(e, item));
       return v;
     }
     const std::size_t n = type_size(t);
@@ -125,12 +129,13 @@ class ValueReader {
 }  // namespace
 
 Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings,
-              bool require_faces) {
+              bool require_faces, RangeGrid* grid) {
   TextScanner s(data, file);
   if (s.token() != "ply") s.fail("not a PLY file: the first line must be 'ply'");
   s.skip_line();
   Encoding enc = Encoding::ascii;
   bool have_format = false;
+  long long grid_cols = -1, grid_rows = -1;
   std::vector<Element> elements;
   for (;;) {
     if (s.at_end()) s.fail("header has no 'end_header' line (truncated?)");
@@ -164,7 +169,12 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
     } else if (key == "end_header") {
       s.skip_line();
       break;
-    } else if (key == "comment" || key == "obj_info" || key.empty()) {
+    } else if (key == "obj_info") {
+      // Stanford range scans give their grid size here ("obj_info num_cols 512").
+      const std::string_view name = s.token();
+      long long v = 0;
+      if ((name == "num_cols" || name == "num_rows") && s.parse_int(s.token(), v)) (name == "num_cols" ? grid_cols : grid_rows) = v;
+    } else if (key == "comment" || key.empty()) {
       // ignored
     } else {
       s.fail("unknown header keyword '" + std::string(key.substr(0, 30)) + "'");
@@ -173,12 +183,32 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   }
   if (!have_format) s.fail("header has no 'format' line");
 
+  // Every element must fit in the bytes after the header before anything is allocated for it: a binary
+  // item takes at least the sizes of its scalars and list counts, a text value at least two characters.
+  {
+    const double remaining = static_cast<double>(data.size() - std::min(data.size(), s.position()));
+    double need = 0.0;
+    for (const auto& e : elements) {
+      double item = 0.0;
+      for (const auto& p : e.properties)
+        item += enc == Encoding::ascii ? 2.0 : static_cast<double>(type_size(p.is_list ? p.count_type : p.type));
+      need += item * static_cast<double>(e.count);
+      if (need > remaining + 2.0)
+        throw InputError(file + ": element '" + e.name + "' announces " + std::to_string(e.count) + " items, but the " +
+                         std::to_string(static_cast<long long>(remaining)) + " bytes after the header cannot hold them (truncated or corrupt header)");
+    }
+  }
+
   Mesh mesh;
   const Element* vertex = nullptr;
   const Element* face = nullptr;
+  const Element* strips = nullptr;
+  const Element* range = nullptr;
   for (const auto& e : elements) {
     if (e.name == "vertex") vertex = &e;
     if (e.name == "face") face = &e;
+    if (e.name == "tristrips") strips = &e;
+    if (e.name == "range_grid") range = &e;
   }
   if (vertex == nullptr) s.fail("no 'vertex' element");
   int xyz[3] = {-1, -1, -1};
@@ -191,14 +221,30 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   }
   for (int c = 0; c < 3; ++c)
     if (xyz[c] < 0) throw InputError(file + ": vertex element has no '" + std::string(1, "xyz"[c]) + "' property");
-  if (face == nullptr && require_faces) throw InputError(file + ": no 'face' element (a point cloud, not a mesh?)");
-  int index_list = -1;
-  if (face != nullptr)
-    for (std::size_t i = 0; i < face->properties.size(); ++i) {
-      const auto& p = face->properties[i];
-      if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) index_list = static_cast<int>(i);
-    }
-  if (face != nullptr && index_list < 0) throw InputError(file + ": face element has no 'vertex_indices' list");
+  if (face == nullptr && strips == nullptr && require_faces)
+    throw InputError(file + ": no 'face' (or 'tristrips') element (a point cloud, not a mesh?)");
+  // The list of vertex indices of a face / strip / range-grid element.
+  auto index_list = [&](const Element* e) {
+    int list = -1;
+    if (e != nullptr)
+      for (std::size_t i = 0; i < e->properties.size(); ++i) {
+        const auto& p = e->properties[i];
+        if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) list = static_cast<int>(i);
+      }
+    if (e != nullptr && list < 0) throw InputError(file + ": " + e->name + " element has no 'vertex_indices' list");
+    return list;
+  };
+  const int face_list = index_list(face), strip_list = index_list(strips), range_list = index_list(range);
+  if (range != nullptr && grid != nullptr) {
+    if (grid_cols <= 0 || grid_rows <= 0)
+      throw InputError(file + ": range_grid element without 'obj_info num_cols' and 'num_rows' in the header");
+    if (static_cast<double>(grid_cols) * static_cast<double>(grid_rows) != static_cast<double>(range->count))
+      throw InputError(file + ": range_grid has " + std::to_string(range->count) + " cells, but num_cols x num_rows = " +
+                       std::to_string(grid_cols) + " x " + std::to_string(grid_rows));
+    grid->cols = static_cast<int>(grid_cols);
+    grid->rows = static_cast<int>(grid_rows);
+    grid->cells.assign(static_cast<std::size_t>(range->count), -1);
+  }
 
   // Vertex properties other than x/y/z are kept.
   std::vector<int> prop_slot(vertex->properties.size(), -1);
@@ -212,32 +258,56 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   mesh.positions.resize(static_cast<std::size_t>(vertex->count));
 
   ValueReader r(data, s.position(), enc, s);
-  std::size_t polygons_split = 0;
+  std::size_t polygons_split = 0, strip_degenerate = 0;
   std::vector<int> corners;
+  auto vertex_index = [&](const Element& e, long long item, double idx, bool allow_minus_one) {
+    if (allow_minus_one && idx == -1.0) return -1;
+    if (!(idx >= 0) || idx >= static_cast<double>(vertex->count) || idx != std::floor(idx))
+      throw InputError(file + ": " + e.name + " " + std::to_string(item) + " refers to vertex " + std::to_string(static_cast<long long>(idx)) +
+                       ", but there are only " + std::to_string(vertex->count) + " vertices");
+    return static_cast<int>(idx);
+  };
   for (const auto& e : elements) {
     const bool is_vertex = &e == vertex;
-    const bool is_face = &e == face;
-    if (!is_vertex && !is_face) warnings.push_back(file + ": element '" + e.name + "' is not kept");
+    const int list_of_interest = &e == face ? face_list : &e == strips ? strip_list : &e == range && grid ? range_list : -1;
+    if (!is_vertex && list_of_interest < 0) warnings.push_back(file + ": element '" + e.name + "' is not kept");
     for (long long item = 0; item < e.count; ++item) {
       for (std::size_t pi = 0; pi < e.properties.size(); ++pi) {
         const Property& p = e.properties[pi];
         if (p.is_list) {
           const double n = r.read(p.count_type, e, item);
-          if (!(n >= 0) || n > 1e6) throw InputError(file + ": " + e.name + " " + std::to_string(item) + " has an invalid list length");
+          const double max_len = &e == strips ? 1e9 : 1e6;
+          if (!(n >= 0) || n > max_len || n != std::floor(n))
+            throw InputError(file + ": " + e.name + " " + std::to_string(item) + " has an invalid list length");
           const auto len = static_cast<long long>(n);
-          if (is_face && static_cast<int>(pi) == index_list) {
+          if (static_cast<int>(pi) != list_of_interest) {
+            for (long long k = 0; k < len; ++k) r.read(p.type, e, item);
+          } else if (&e == face) {
             corners.clear();
-            for (long long k = 0; k < len; ++k) {
-              const double idx = r.read(p.type, e, item);
-              if (!(idx >= 0) || idx >= static_cast<double>(vertex->count))
-                throw InputError(file + ": face " + std::to_string(item) + " refers to vertex " + std::to_string(static_cast<long long>(idx)) +
-                                 ", but there are only " + std::to_string(vertex->count) + " vertices");
-              corners.push_back(static_cast<int>(idx));
-            }
+            for (long long k = 0; k < len; ++k) corners.push_back(vertex_index(e, item, r.read(p.type, e, item), false));
             if (corners.size() < 3) throw InputError(file + ": face " + std::to_string(item) + " has fewer than three vertices");
             add_polygon(mesh, corners, polygons_split);
-          } else {
-            for (long long k = 0; k < len; ++k) r.read(p.type, e, item);
+          } else if (&e == strips) {
+            // Triangle strips, restarted by -1: triangle k of a strip is (s_k, s_k+1, s_k+2), every other one
+            // reversed so all keep the strip's orientation. Degenerate joins (a repeated vertex) are dropped.
+            corners.clear();
+            for (long long k = 0; k <= len; ++k) {
+              const int v = k < len ? vertex_index(e, item, r.read(p.type, e, item), true) : -1;
+              if (v >= 0) {
+                corners.push_back(v);
+                if (corners.size() < 3) continue;
+                const std::size_t t = corners.size() - 3;
+                Face f = {corners[t], corners[t + 1], corners[t + 2]};
+                if (t % 2 == 1) std::swap(f[0], f[1]);
+                if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) ++strip_degenerate;
+                else mesh.faces.push_back(f);
+              } else {
+                corners.clear();
+              }
+            }
+          } else {  // range grid cell: no index (nothing seen) or one vertex
+            if (len > 1) throw InputError(file + ": range_grid cell " + std::to_string(item) + " lists " + std::to_string(len) + " vertices (at most 1)");
+            if (len == 1) grid->cells[static_cast<std::size_t>(item)] = vertex_index(e, item, r.read(p.type, e, item), false);
           }
         } else {
           const double v = r.read(p.type, e, item);
@@ -253,6 +323,8 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   }
   if (polygons_split > 0)
     warnings.push_back(file + ": " + std::to_string(polygons_split) + " polygons with more than 3 corners were fan-triangulated");
+  if (strip_degenerate > 0)
+    warnings.push_back(file + ": " + std::to_string(strip_degenerate) + " degenerate triangles joining triangle strips were dropped");
   return mesh;
 }
 

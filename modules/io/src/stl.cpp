@@ -71,8 +71,7 @@ Mesh read_ascii_stl(std::string_view data, const std::string& file) {
     if (key.empty()) break;
     if (key == "vertex") {
       double xyz[3];
-      for (double& c : xyz)
-        if (!s.parse_double(s.token(), c)) s.fail("vertex needs three numeric coordinates");
+      for (double& c : xyz) c = s.finite_number(s.token(), "vertex of facet " + std::to_string(mesh.faces.size() + 1));
       if (corner >= 3) s.fail("facet with more than three vertices");
       f[corner++] = weld.add(Vec3(xyz[0], xyz[1], xyz[2]));
     } else if (key == "endloop") {

@@ -1,6 +1,9 @@
 #pragma once
 // A small, fast cursor over a text file held in memory, used by the OBJ, OFF, PLY and STL parsers.
+#include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -64,15 +67,43 @@ class TextScanner {
     return token();
   }
 
-  bool parse_double(std::string_view tok, double& out) const {
-    if (tok.empty()) return false;
+  /// Parses a whole token as a double. "nan"/"inf" spellings are accepted as such (callers decide whether
+  /// non-finite values are allowed); a number too large for a double is rejected, one too small becomes
+  /// the nearest representable value (0 or a denormal).
+  bool parse_double(std::string_view tok, double& out) const { return parse_number(tok, out) == NumberStatus::ok; }
+
+  enum class NumberStatus { ok, not_a_number, out_of_range };
+  static NumberStatus parse_number(std::string_view tok, double& out) {
+    if (tok.empty()) return NumberStatus::not_a_number;
     const char* b = tok.data();
     const char* e = b + tok.size();
     if (*b == '+') ++b;
     auto [p, ec] = std::from_chars(b, e, out);
-    if (ec == std::errc::result_out_of_range) return p == e;  // denormals/huge: from_chars leaves out set
-    return ec == std::errc() && p == e;
+    if (p != e) return NumberStatus::not_a_number;
+    if (ec == std::errc::result_out_of_range) {
+      // from_chars leaves `out` untouched here; strtod tells overflow (+-HUGE_VAL) from underflow (a
+      // denormal or zero, which is kept).
+      const std::string copy(b, e);
+      const double v = std::strtod(copy.c_str(), nullptr);
+      if (std::isinf(v)) return NumberStatus::out_of_range;
+      out = v;
+      return NumberStatus::ok;
+    }
+    return ec == std::errc() ? NumberStatus::ok : NumberStatus::not_a_number;
   }
+
+  /// Parses a finite number or fails with "FILE:LINE: <what>: 'tok' is not a number" (or "is too large").
+  double finite_number(std::string_view tok, const std::string& what) const {
+    double v = 0.0;
+    if (tok.empty()) fail(what + ": missing number (truncated?)");
+    const NumberStatus st = parse_number(tok, v);
+    const std::string shown(tok.substr(0, 30));
+    if (st == NumberStatus::out_of_range) fail(what + ": '" + shown + "' is too large for a double");
+    if (st != NumberStatus::ok) fail(what + ": '" + shown + "' is not a number");
+    if (!std::isfinite(v)) fail(what + ": '" + shown + "' is not a finite number (NaN or infinite)");
+    return v;
+  }
+
   bool parse_int(std::string_view tok, long long& out) const {
     if (tok.empty()) return false;
     const char* b = tok.data();

@@ -5,6 +5,7 @@
 // isotropic fidelity term lambda_I * R_i (stage 2, vertex_update.h); lambda_I decays every iteration.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "scanmesh/mesh.h"
 
@@ -69,6 +70,9 @@ struct DenoiseReport {
 
 /// Called after every iteration with (iterations done, total).
 using ProgressCallback = std::function<void(int, int)>;
+/// Called after every iteration with the iterations done and the current vertex positions (benches record
+/// quality curves with it; it must not keep the reference).
+using IterationObserver = std::function<void(int, const std::vector<Vec3>&)>;
 
 /// Parses/prints option values ("tukey", "connected_ball", ...). Parsing throws UsageError listing the choices.
 RobustEstimator parse_estimator(const std::string& name);
@@ -83,6 +87,7 @@ void validate(const DenoiseOptions& options);
 /// normals (nx, ny, nz) are recomputed from the result. Degenerate faces, isolated vertices, non-manifold
 /// edges and several components are allowed. Deterministic: the result does not depend on the thread count.
 /// \throw UsageError for invalid options.
-DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress = {});
+DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress = {},
+                      const IterationObserver& observer = {});
 
 }  // namespace scanmesh

@@ -20,11 +20,20 @@ namespace scanmesh {
 /// (polygons triangulated, ignored elements) are appended to `warnings` if given.
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
+/// The range image of a Stanford range scan PLY (`element range_grid` with `obj_info num_cols/num_rows`):
+/// for every grid cell, row by row, the index of the vertex measured there, or -1.
+struct RangeGrid {
+  int cols = 0, rows = 0;
+  std::vector<int> cells;
+};
+
 /// Reads the vertices (with all their properties) and, if present, the faces of a PLY file: for point
 /// clouds stored as PLY. Throws InputError like read_mesh (but a file without faces is fine).
 Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings = nullptr);
-/// The same on a PLY file's bytes already in memory; `file` names it in messages.
-Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings = nullptr);
+/// The same on a PLY file's bytes already in memory; `file` names it in messages. With `grid`, a
+/// `range_grid` element is read into it (cols = 0 if the file has none).
+Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings = nullptr,
+                       RangeGrid* grid = nullptr);
 
 /// How a mesh is encoded on disk.
 struct WriteOptions {

@@ -1,0 +1,123 @@
+// Records, for every pair of the tuning corpus (corpus.h), how the result's quality evolves with the
+// iterations for a grid of fixed (sigma_s, lambda, radius factor) settings: MSAE, flipped faces and the
+// displacement from the noisy input, at checkpoint iterations. One run to the last checkpoint gives every
+// earlier one (the state after k iterations does not depend on the total), so the grid is cheap enough
+// to fit --auto offline, with leave-one-model-out cross-validation (auto_cv).
+// usage: scanmesh_auto_grid [DATA_DIR] [--only MODEL] [--sigmas a,b,..] [--lambdas ..] [--radii ..] > grid.csv
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "corpus.h"
+#include "scanmesh/denoise.h"
+#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/topology.h"
+
+using namespace scanmesh;
+
+namespace {
+
+std::vector<double> parse_list(const char* s) {
+  std::vector<double> v;
+  std::stringstream in(s);
+  std::string tok;
+  while (std::getline(in, tok, ',')) v.push_back(std::atof(tok.c_str()));
+  return v;
+}
+
+struct Quality {
+  double msae = 0.0;
+  std::size_t flips = 0;
+};
+
+Quality compare(const std::vector<Vec3>& positions, const std::vector<Face>& faces, const std::vector<Vec3>& clean_normals) {
+  Quality q;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const auto& t = faces[f];
+    const Vec3 n = triangle_normal(positions[t[0]], positions[t[1]], positions[t[2]]);
+    const double c = std::clamp(n.dot(clean_normals[f]), -1.0, 1.0);
+    const double angle = std::acos(c) * 180.0 / 3.14159265358979323846;
+    q.msae += angle;
+    q.flips += c < 0.0 ? 1 : 0;
+  }
+  q.msae /= static_cast<double>(std::max<std::size_t>(1, faces.size()));
+  return q;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::filesystem::path data = "../shared/data";
+  std::string only;
+  std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--sigmas") && i + 1 < argc) sigmas = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
+    else data = argv[i];
+  }
+  const auto models = bench::corpus_models(data);
+  if (models.empty()) {
+    std::printf("skipped: %s not found\n", data.c_str());
+    return 0;
+  }
+  const std::vector<int> checkpoints = {1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 12,  14,  16,  18,  20,  23,  26,
+                                        30, 35, 40, 45, 50, 60, 70, 80, 90, 100, 115, 130, 150, 175, 200};
+  for (const auto& model : models) {
+    if (!only.empty() && model.name != only) continue;
+    for (const auto& pair : bench::load_pairs(model)) {
+      const auto t0 = std::chrono::steady_clock::now();
+      FaceGeometry g;
+      compute_face_geometry(pair.clean.positions, pair.clean.faces, g);
+      const std::vector<Vec3> clean_normals = g.normals;
+      const Quality input = compare(pair.noisy.positions, pair.noisy.faces, clean_normals);
+      const AutoParameters a = estimate_parameters(pair.noisy);
+      const Topology topo = build_topology(pair.noisy);
+      std::printf("P,%s,%s,%s,%zu,%.4f,%zu,%.5f,%.5f,%.5f,%.6g\n", pair.model.c_str(), pair.variant.c_str(), pair.kind.c_str(),
+                  pair.noisy.num_faces(), input.msae, input.flips, a.noise_level, a.feature_fraction, a.exact_plane_fraction,
+                  mean_edge_length(pair.noisy, topo));
+      for (double r : radii)
+        for (double s : sigmas)
+          for (double l : lambdas) {
+            Mesh m = pair.noisy;
+            DenoiseOptions o;
+            o.sigma_s = s;
+            o.lambda = l;
+            o.radius_factor = r;
+            o.iterations = checkpoints.back();
+            std::size_t next = 0;
+            FaceGeometry cg;
+            denoise(m, o, {}, [&](int it, const std::vector<Vec3>& pos) {
+              if (next >= checkpoints.size() || it != checkpoints[next]) return;
+              ++next;
+              const Quality q = compare(pos, pair.noisy.faces, clean_normals);
+              // Displacement from the noisy input, and its part along the current vertex normals.
+              compute_face_geometry(pos, pair.noisy.faces, cg);
+              const std::vector<Vec3> vn = vertex_normals(topo, cg);
+              double d2 = 0.0, n2 = 0.0;
+              std::size_t count = 0;
+              for (std::size_t v = 0; v < pos.size(); ++v) {
+                if (topo.vertex_faces.size(v) == 0) continue;
+                const Vec3 d = pos[v] - pair.noisy.positions[v];
+                d2 += d.squaredNorm();
+                n2 += std::pow(d.dot(vn[v]), 2);
+                ++count;
+              }
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%d,%.4f,%zu,%.6g,%.6g\n", pair.model.c_str(), pair.variant.c_str(), s, l, r, it,
+                          q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)), std::sqrt(d2 / std::max<std::size_t>(1, count)));
+            });
+          }
+      std::fflush(stdout);
+      std::fprintf(stderr, "%s %s: %zu faces, %.1f s\n", pair.model.c_str(), pair.variant.c_str(), pair.noisy.num_faces(),
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,46 @@
+#pragma once
+// The tuning corpus for --auto: clean models from ../shared/data (train/, the clean halves of pairs/, and
+// a few of meshes/), each made into seeded noisy pairs with the noise stage (the library call behind
+// `scanmesh noise`), plus the real noisy halves of pairs/. Benches that fit or check --auto share it, so
+// every one of them sees the same pairs, grouped by model for leave-one-model-out cross-validation.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scanmesh/add_noise.h"
+#include "scanmesh/mesh.h"
+
+namespace scanmesh::bench {
+
+/// One clean/noisy pair with the same vertex order and faces.
+struct Pair {
+  std::string model;    ///< cross-validation group: pairs of one model are held back together
+  std::string variant;  ///< e.g. "gaussian-random-0.2" or "given" for a pair shipped with the data
+  std::string kind;     ///< "organic" or "mechanical", from SOURCES.md (for reading tables only)
+  Mesh clean, noisy;
+};
+
+/// A model of the corpus before noise is added.
+struct Model {
+  std::string name, kind;
+  std::filesystem::path clean;  ///< clean mesh file
+  std::vector<std::filesystem::path> given;  ///< noisy files shipped with it (same vertices and faces)
+};
+
+/// The noisy variants made from every clean model: (kind, direction, level x mean edge).
+struct Variant {
+  NoiseKind kind;
+  NoiseDirection direction;
+  double level;
+  [[nodiscard]] std::string name() const;
+};
+const std::vector<Variant>& corpus_variants();
+
+/// The models found under `data` (../shared/data); empty if the folder is absent.
+std::vector<Model> corpus_models(const std::filesystem::path& data);
+
+/// Loads the pairs of one model: the given pair (if any) and every variant of corpus_variants(), seeded by
+/// the model name and the variant so the corpus is the same on every machine.
+std::vector<Pair> load_pairs(const Model& model);
+
+}  // namespace scanmesh::bench
