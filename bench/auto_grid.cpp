@@ -17,6 +17,7 @@
 #include "scanmesh/estimate_parameters.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
+#include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"
 
 using namespace scanmesh;
@@ -56,11 +57,14 @@ int main(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
   std::string only;
   std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
+  std::vector<double> smooth = {0.0}, thresholds = {0.5};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--sigmas") && i + 1 < argc) sigmas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--smooth") && i + 1 < argc) smooth = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--thresholds") && i + 1 < argc) thresholds = parse_list(argv[++i]);
     else data = argv[i];
   }
   const auto models = bench::corpus_models(data);
@@ -80,17 +84,46 @@ int main(int argc, char** argv) {
       const Quality input = compare(pair.noisy.positions, pair.noisy.faces, clean_normals);
       const AutoParameters a = estimate_parameters(pair.noisy);
       const Topology topo = build_topology(pair.noisy);
-      std::printf("P,%s,%s,%s,%zu,%.4f,%zu,%.5f,%.5f,%.5f,%.6g\n", pair.model.c_str(), pair.variant.c_str(), pair.kind.c_str(),
-                  pair.noisy.num_faces(), input.msae, input.flips, a.noise_level, a.feature_fraction, a.exact_plane_fraction,
-                  mean_edge_length(pair.noisy, topo));
+      // Noise statistics (mesh units) and the share of faces whose pre-filtered neighbourhood bends by more
+      // than 0.3 / 0.5 / 0.7 / 1.0, for fitting rules offline.
+      std::vector<double> jumps = noise_jumps(pair.noisy);
+      std::sort(jumps.begin(), jumps.end());
+      auto quantile = [&](double q) { return jumps.empty() ? 0.0 : jumps[std::min(jumps.size() - 1, static_cast<std::size_t>(q * jumps.size()))]; };
+      double sum = 0.0, sum2 = 0.0, trimmed2 = 0.0;
+      for (std::size_t k = 0; k < jumps.size(); ++k) {
+        sum += jumps[k];
+        sum2 += jumps[k] * jumps[k];
+        if (k < jumps.size() * 98 / 100) trimmed2 += jumps[k] * jumps[k];
+      }
+      const double nj = static_cast<double>(std::max<std::size_t>(1, jumps.size()));
+      double share[4] = {0, 0, 0, 0};
+      {
+        FaceGeometry ng;
+        compute_face_geometry(pair.noisy.positions, pair.noisy.faces, ng);
+        const double c_a = mean_centroid_distance(pair.noisy, topo, ng);
+        const Adjacency nbh = face_neighbourhoods(topo, ng, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
+        const std::vector<double> phi = feature_strength(ng, nbh, c_a, 2);
+        const double t[4] = {0.3, 0.5, 0.7, 1.0};
+        for (double x : phi)
+          for (int k = 0; k < 4; ++k) share[k] += x > t[k] ? 1.0 / static_cast<double>(phi.size()) : 0.0;
+      }
+      std::printf("P,%s,%s,%s,%zu,%.4f,%zu,%.5f,%.5f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.4f,%.4f,%.4f,%.4f\n", pair.model.c_str(),
+                  pair.variant.c_str(), pair.kind.c_str(), pair.noisy.num_faces(), input.msae, input.flips, a.noise_level,
+                  a.feature_fraction, a.exact_plane_fraction, mean_edge_length(pair.noisy, topo), quantile(0.5), sum / nj,
+                  std::sqrt(sum2 / nj), std::sqrt(trimmed2 / nj), quantile(0.9), share[0], share[1], share[2], share[3]);
       for (double r : radii)
         for (double s : sigmas)
-          for (double l : lambdas) {
+          for (double l : lambdas)
+            for (double sm : smooth)
+              for (double th : (sm > 0.0 ? thresholds : std::vector<double>{0.0})) {
+            if (sm > 0.0 && sm <= s) continue;
             Mesh m = pair.noisy;
             DenoiseOptions o;
             o.sigma_s = s;
             o.lambda = l;
             o.radius_factor = r;
+            o.smooth_sigma_s = sm;
+            o.feature_threshold = th;
             o.iterations = checkpoints.back();
             std::size_t next = 0;
             FaceGeometry cg;
@@ -110,8 +143,8 @@ int main(int argc, char** argv) {
                 n2 += std::pow(d.dot(vn[v]), 2);
                 ++count;
               }
-              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%d,%.4f,%zu,%.6g,%.6g\n", pair.model.c_str(), pair.variant.c_str(), s, l, r, it,
-                          q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)), std::sqrt(d2 / std::max<std::size_t>(1, count)));
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g\n", pair.model.c_str(), pair.variant.c_str(), s, l, r,
+                          sm, th, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)), std::sqrt(d2 / std::max<std::size_t>(1, count)));
             });
           }
       std::fflush(stdout);

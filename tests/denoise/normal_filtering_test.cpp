@@ -22,7 +22,7 @@ TEST(NormalFiltering, TukeyDoesNotMixAcrossARightAngle) {
   FaceGeometry g;
   compute_face_geometry(cube.positions, cube.faces, g);
   const double ca = mean_centroid_distance(cube, t, g);
-  const Adjacency nbh = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::ball);
+  const Adjacency nbh = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::ball, max_neighbourhood_size(2.0));
   std::vector<Vec3> filtered;
   filter_face_normals(g, nbh, ca, 0.5, RobustEstimator::tukey, filtered);
   for (std::size_t f = 0; f < cube.num_faces(); ++f) EXPECT_LT((filtered[f] - g.normals[f]).norm(), 1e-12);
@@ -44,8 +44,8 @@ TEST(NormalFiltering, ConnectedBallIsASubsetOfTheBall) {
   FaceGeometry g;
   compute_face_geometry(m.positions, m.faces, g);
   const double ca = mean_centroid_distance(m, t, g);
-  const Adjacency ball = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::ball);
-  const Adjacency conn = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::connected_ball);
+  const Adjacency ball = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::ball, max_neighbourhood_size(2.0));
+  const Adjacency conn = face_neighbourhoods(t, g, 2.0 * ca, NeighbourhoodKind::connected_ball, max_neighbourhood_size(2.0));
   const std::size_t half = m.num_faces() / 2;
   std::size_t crossing_ball = 0, crossing_conn = 0;
   for (std::size_t f = 0; f < m.num_faces(); ++f) {

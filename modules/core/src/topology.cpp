@@ -109,12 +109,19 @@ Topology build_topology(const Mesh& mesh) {
     sort_unique_rows(t.vertex_vertices);
   }
 
-  {  // face -> edge-adjacent faces
+  {  // face -> edge-adjacent faces. Across a non-manifold edge (k > 2 faces) each face is linked to the
+     // faces before and after it on that edge only, so a fan of k faces costs O(k) links, not O(k^2),
+     // and stays connected.
     std::vector<std::pair<int, int>> pairs;
-    for (std::size_t e = 0; e < t.edges.size(); ++e)
-      for (const int* f = t.edge_faces.begin(e); f != t.edge_faces.end(e); ++f)
-        for (const int* g = t.edge_faces.begin(e); g != t.edge_faces.end(e); ++g)
-          if (*f != *g) pairs.emplace_back(*f, *g);
+    pairs.reserve(2 * t.edge_faces.indices.size());
+    for (std::size_t e = 0; e < t.edges.size(); ++e) {
+      const int* f = t.edge_faces.begin(e);
+      const int k = t.edge_faces.size(e);
+      for (int a = 0; a + 1 < k; ++a) {
+        pairs.emplace_back(f[a], f[a + 1]);
+        pairs.emplace_back(f[a + 1], f[a]);
+      }
+    }
     t.face_faces = build_csr(nf, pairs);
     sort_unique_rows(t.face_faces);
   }

@@ -1,5 +1,6 @@
 #include "scanmesh/denoise.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -65,6 +66,24 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   validate(options);
   DenoiseReport report;
   if (mesh.faces.empty() || options.iterations == 0) return report;
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v)
+    if (!mesh.positions[v].allFinite())
+      throw InputError("denoise: vertex " + std::to_string(v) + " has a coordinate that is NaN or infinite");
+
+  // Work at unit scale: coordinates of 1e-150 or 1e80 behave like those of the unit box (squared
+  // distances neither underflow nor overflow). The scale is a power of two, so scaling and unscaling are
+  // exact and every result equals the one computed at the original scale.
+  double largest = 0.0;
+  for (const auto& p : mesh.positions) largest = std::max(largest, p.cwiseAbs().maxCoeff());
+  const double scale = largest > 0.0 ? std::ldexp(1.0, -std::ilogb(largest)) : 1.0;
+  struct Unscale {
+    Mesh& m;
+    double s;
+    ~Unscale() {
+      for (auto& p : m.positions) p /= s;
+    }
+  } restore{mesh, scale};
+  for (auto& p : mesh.positions) p *= scale;
 
   const Topology topology = build_topology(mesh);
   BoundaryCurves curves;
@@ -72,7 +91,8 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   if (boundary) curves = build_boundary_curves(mesh, topology);
   for (auto b : topology.boundary_vertex) report.boundary_vertices += b;
 
-  std::vector<Vec3> positions = mesh.positions, updated;
+  const Adjacency fidelity = fidelity_neighbours(mesh, topology);
+  std::vector<Vec3> positions = mesh.positions, updated, unscaled;
   FaceGeometry geometry;
   compute_face_geometry(positions, mesh.faces, geometry);
 
@@ -80,26 +100,37 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   const double c_a = mean_centroid_distance(mesh, topology, geometry);
   report.mean_centroid_distance = c_a;
   if (!(c_a > 0.0)) return report;  // every face degenerate: nothing to filter
-  Adjacency neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood);
+  Adjacency neighbourhoods =
+      face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods);
   report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
   report.seconds_neighbourhoods += seconds_since(t0);
 
+  std::vector<double> face_sigma;
+  if (options.smooth_sigma_s > 0.0) {
+    const std::vector<double> strength = feature_strength(geometry, neighbourhoods, c_a, 2);
+    face_sigma.resize(strength.size());
+    for (std::size_t f = 0; f < strength.size(); ++f)
+      face_sigma[f] = strength[f] > options.feature_threshold ? options.sigma_s : options.smooth_sigma_s;
+  }
   std::vector<Vec3> filtered;
   double lambda = options.lambda;
   for (int it = 0; it < options.iterations; ++it) {
     if (it > 0) compute_face_geometry(positions, mesh.faces, geometry);
     if (options.recompute_neighbourhoods && it > 0) {
       t0 = std::chrono::steady_clock::now();
-      neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood);
+      neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+                                           max_neighbourhood_size(options.radius_factor));
       report.seconds_neighbourhoods += seconds_since(t0);
     }
     t0 = std::chrono::steady_clock::now();
-    filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
+    filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered,
+                        face_sigma.empty() ? nullptr : &face_sigma);
     if (boundary)
       filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.radius_factor);
     report.seconds_filtering += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
-    update_vertices(positions, topology, geometry, filtered, lambda, boundary ? &curves : nullptr,
+    update_vertices(positions, topology, fidelity, geometry, filtered, lambda, boundary ? &curves : nullptr,
                     options.feature_aware_fidelity, updated);
     positions.swap(updated);
     if (boundary)
@@ -108,8 +139,16 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     lambda *= options.decay;
     ++report.iterations;
     if (progress) progress(it + 1, options.iterations);
-    if (observer) observer(it + 1, positions);
+    if (observer) {
+      unscaled.resize(positions.size());
+      for (std::size_t v = 0; v < positions.size(); ++v) unscaled[v] = positions[v] / scale;
+      observer(it + 1, unscaled);
+    }
   }
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (!positions[v].allFinite())
+      throw InputError("denoise: the result has non-finite coordinates (vertex " + std::to_string(v) +
+                       "); the input was left as it was");
   mesh.positions = std::move(positions);
 
   // Stored vertex normals describe the old surface; replace them with the new one's.

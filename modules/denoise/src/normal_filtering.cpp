@@ -25,15 +25,16 @@ namespace {
 
 // The estimator is a template parameter so the hot loop has no switch in it.
 template <RobustEstimator E>
-void filter_impl(const FaceGeometry& g, const Adjacency& nbh, double sigma_c, double sigma_s,
-                 std::vector<Vec3>& out) {
+void filter_impl(const FaceGeometry& g, const Adjacency& nbh, double sigma_c, double global_sigma_s,
+                 const std::vector<double>* face_sigma, std::vector<Vec3>& out) {
   const auto nf = static_cast<long>(g.normals.size());
   const double inv_two_sc2 = 1.0 / (2.0 * sigma_c * sigma_c);
-  const double inv_ss2 = 1.0 / (sigma_s * sigma_s);
-  const double ss2 = sigma_s * sigma_s;
-  const double inv_two_ss2 = 1.0 / (2.0 * sigma_s * sigma_s);
 #pragma omp parallel for schedule(dynamic, 512)
   for (long i = 0; i < nf; ++i) {
+    const double sigma_s = face_sigma != nullptr ? (*face_sigma)[i] : global_sigma_s;
+    const double inv_ss2 = 1.0 / (sigma_s * sigma_s);
+    const double ss2 = sigma_s * sigma_s;
+    const double inv_two_ss2 = 1.0 / (2.0 * sigma_s * sigma_s);
     const Vec3& ni = g.normals[i];
     const Vec3& ci = g.centroids[i];
     Vec3 sum = Vec3::Zero();
@@ -65,62 +66,103 @@ void filter_impl(const FaceGeometry& g, const Adjacency& nbh, double sigma_c, do
 }  // namespace
 
 void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c,
-                         double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered) {
+                         double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
+                         const std::vector<double>* face_sigma) {
   filtered.resize(geometry.normals.size());
+  const auto& g = geometry;
+  const auto& n = neighbourhoods;
   switch (estimator) {
-    case RobustEstimator::tukey: filter_impl<RobustEstimator::tukey>(geometry, neighbourhoods, sigma_c, sigma_s, filtered); break;
-    case RobustEstimator::gaussian: filter_impl<RobustEstimator::gaussian>(geometry, neighbourhoods, sigma_c, sigma_s, filtered); break;
-    case RobustEstimator::huber: filter_impl<RobustEstimator::huber>(geometry, neighbourhoods, sigma_c, sigma_s, filtered); break;
-    case RobustEstimator::lorentzian: filter_impl<RobustEstimator::lorentzian>(geometry, neighbourhoods, sigma_c, sigma_s, filtered); break;
+    case RobustEstimator::tukey: filter_impl<RobustEstimator::tukey>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
+    case RobustEstimator::gaussian: filter_impl<RobustEstimator::gaussian>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
+    case RobustEstimator::huber: filter_impl<RobustEstimator::huber>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
+    case RobustEstimator::lorentzian: filter_impl<RobustEstimator::lorentzian>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
   }
 }
 
+std::vector<double> feature_strength(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c, int passes) {
+  // Pre-filter with a wide, nearly uniform similarity kernel (Tukey, sigma 2), so noise averages out while
+  // sharp edges stay as strong variations of the normal across a neighbourhood.
+  FaceGeometry g = geometry;
+  std::vector<Vec3> m;
+  for (int p = 0; p < passes; ++p) {
+    filter_face_normals(g, neighbourhoods, sigma_c, 2.0, RobustEstimator::tukey, m);
+    g.normals = m;
+  }
+  const auto nf = static_cast<long>(g.normals.size());
+  std::vector<double> strength(g.normals.size(), 0.0);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (long i = 0; i < nf; ++i) {
+    double worst = 0.0;
+    for (const int* j = neighbourhoods.begin(i); j != neighbourhoods.end(i); ++j)
+      if (g.areas[*j] > 0.0) worst = std::max(worst, (g.normals[i] - g.normals[*j]).squaredNorm());
+    strength[i] = std::sqrt(worst);
+  }
+  return strength;
+}
+
 double mean_centroid_distance(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry) {
+  // Over manifold edges; only if there are none, consecutive faces of non-manifold edges (all pairs of a
+  // fan of k faces would cost k^2).
   double sum = 0.0;
   std::size_t n = 0;
-  for (std::size_t e = 0; e < topology.edges.size(); ++e) {
-    const int* f = topology.edge_faces.begin(e);
-    const int count = topology.edge_faces.size(e);
-    for (int a = 0; a < count; ++a)
-      for (int b = a + 1; b < count; ++b) {
-        sum += (geometry.centroids[f[a]] - geometry.centroids[f[b]]).norm();
+  for (int pass = 0; pass < 2 && n == 0; ++pass)
+    for (std::size_t e = 0; e < topology.edges.size(); ++e) {
+      const int* f = topology.edge_faces.begin(e);
+      const int count = topology.edge_faces.size(e);
+      if (count < 2 || (pass == 0 && count != 2)) continue;
+      for (int a = 0; a + 1 < count; ++a) {
+        sum += (geometry.centroids[f[a]] - geometry.centroids[f[a + 1]]).norm();
         ++n;
       }
-  }
+    }
   if (n > 0) return sum / static_cast<double>(n);
   return mean_edge_length(mesh, topology);
 }
 
+int max_neighbourhood_size(double radius_factor) {
+  return static_cast<int>(std::max(256.0, std::ceil(64.0 * radius_factor * radius_factor)));
+}
+
 Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,
-                              NeighbourhoodKind kind) {
-  if (kind == NeighbourhoodKind::ball) return radius_neighbourhoods(geometry.centroids, radius);
+                              NeighbourhoodKind kind, int max_size, std::size_t* capped) {
+  if (kind == NeighbourhoodKind::ball) return radius_neighbourhoods(geometry.centroids, radius, max_size, capped);
 
   // Connected ball: grow from face i through edge-adjacent faces whose centroids are within the radius.
   const auto nf = static_cast<long>(geometry.centroids.size());
   std::vector<std::vector<int>> rows(geometry.centroids.size());
   const double r2 = radius * radius;
-#pragma omp parallel
+  std::size_t cut = 0;
+#pragma omp parallel reduction(+ : cut)
   {
-    std::vector<int> stack;
-    std::vector<int> seen;  // small: linear search is faster than a set
+    std::vector<int> stack, seen;
+    std::vector<long> stamp(geometry.centroids.size(), -1);  // stamp[f] == i: f already in face i's region
 #pragma omp for schedule(dynamic, 256)
     for (long i = 0; i < nf; ++i) {
       seen.assign(1, static_cast<int>(i));
       stack.assign(1, static_cast<int>(i));
-      while (!stack.empty()) {
+      stamp[i] = i;
+      bool full = false;
+      while (!stack.empty() && !full) {
         const int f = stack.back();
         stack.pop_back();
         for (const int* g = topology.face_faces.begin(f); g != topology.face_faces.end(f); ++g) {
-          if (std::find(seen.begin(), seen.end(), *g) != seen.end()) continue;
+          if (stamp[*g] == i) continue;
           if ((geometry.centroids[*g] - geometry.centroids[i]).squaredNorm() > r2) continue;
+          stamp[*g] = i;
           seen.push_back(*g);
           stack.push_back(*g);
+          if (seen.size() >= static_cast<std::size_t>(max_size)) {
+            full = true;
+            ++cut;
+            break;
+          }
         }
       }
       std::sort(seen.begin(), seen.end());
       rows[i] = seen;
     }
   }
+  if (capped != nullptr) *capped = cut;
   Adjacency a;
   a.offsets.assign(rows.size() + 1, 0);
   for (std::size_t i = 0; i < rows.size(); ++i) a.offsets[i + 1] = a.offsets[i] + static_cast<int>(rows[i].size());

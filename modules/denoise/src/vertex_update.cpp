@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <cstdlib>
 
 #include "scanmesh/normal_filtering.h"
@@ -18,9 +19,11 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
   c.next.assign(nv, -1);
   c.vertex_edges.assign(nv, {-1, -1});
   c.loop_edges.offsets.assign(1, 0);
-  // The face owning boundary edge a->b: the only face on that edge.
+  // The face owning boundary edge a->b: the only face on that edge, looked up around whichever end has
+  // fewer faces (the hub of a fan may have thousands).
   auto owning_face = [&](int a, int b) {
-    for (const int* f = topology.vertex_faces.begin(a); f != topology.vertex_faces.end(a); ++f)
+    const int hub = topology.vertex_faces.size(a) <= topology.vertex_faces.size(b) ? a : b;
+    for (const int* f = topology.vertex_faces.begin(hub); f != topology.vertex_faces.end(hub); ++f)
       for (int k = 0; k < 3; ++k)
         if (mesh.faces[*f][k] == a && mesh.faces[*f][(k + 1) % 3] == b &&
             topology.is_boundary_edge(static_cast<std::size_t>(topology.face_edges[*f][k])))
@@ -61,27 +64,33 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
         c.next[loop[k]] = loop[(k + 1) % n];
       }
     }
+    // Turning angle between consecutive boundary edges at each vertex of the loop.
+    std::vector<double> turn1(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!closed && (k == 0 || k + 1 == n)) continue;
+      const Vec3 a = mesh.positions[loop[k]] - mesh.positions[loop[(k + n - 1) % n]];
+      const Vec3 b = mesh.positions[loop[(k + 1) % n]] - mesh.positions[loop[k]];
+      const double la = a.norm(), lb = b.norm();
+      if (la > 0.0 && lb > 0.0) turn1[k] = std::acos(std::clamp(a.dot(b) / (la * lb), -1.0, 1.0));
+    }
     // A ragged loop: the mean turning angle between consecutive boundary edges exceeds 70 degrees (a pixel
     // staircase turns by 75-130 here; a smooth boundary with noise of 0.3 / 0.7 mean edges by 32 / 69).
-    if (n >= 3) {
+    // A staircase has many steps: loops under 8 vertices (a triangle, a quad) are polygons, all corners.
+    if (n >= 8) {
       double turn_sum = 0.0;
       std::size_t turns = 0;
-      for (std::size_t k = 0; k < n; ++k) {
-        if (!closed && (k == 0 || k + 1 == n)) continue;
-        const Vec3 a = mesh.positions[loop[k]] - mesh.positions[loop[(k + n - 1) % n]];
-        const Vec3 b = mesh.positions[loop[(k + 1) % n]] - mesh.positions[loop[k]];
-        const double la = a.norm(), lb = b.norm();
-        if (la > 0.0 && lb > 0.0) {
-          turn_sum += std::acos(std::clamp(a.dot(b) / (la * lb), -1.0, 1.0));
+      for (std::size_t k = 0; k < n; ++k)
+        if (closed || (k > 0 && k + 1 < n)) {
+          turn_sum += turn1[k];
           ++turns;
         }
-      }
       if (turns > 0 && turn_sum / static_cast<double>(turns) > 70.0 * 3.14159265358979323846 / 180.0)
         for (int v : loop) c.ragged[v] = 1;
     }
     // Corners of the input boundary: the turning angle between the chords to the vertices three steps
-    // back and three steps ahead exceeds 50 degrees and is the largest within two steps. Three-edge
-    // chords keep noise of a fraction of an edge far from the threshold.
+    // back and three steps ahead exceeds 50 degrees and no vertex within two steps turns more. Three-edge
+    // chords keep noise of a fraction of an edge far from the threshold. Equal chord turns (a coarse
+    // polygon, whose sides are as short as the chords) go to the vertex that turns most by itself.
     if (n >= 8) {
       std::vector<double> turn(n, 0.0);
       for (std::size_t k = 0; k < n; ++k) {
@@ -99,8 +108,8 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
         for (int d = -2; d <= 2 && peak; ++d) {
           const long kk = static_cast<long>(k) + d;
           if (d == 0 || (!closed && (kk < 0 || kk >= static_cast<long>(n)))) continue;
-          const double other = turn[(kk + static_cast<long>(n)) % static_cast<long>(n)];
-          peak = other < turn[k] || (other == turn[k] && d > 0);
+          const auto o = static_cast<std::size_t>((kk + static_cast<long>(n)) % static_cast<long>(n));
+          peak = !(std::tie(turn[k], turn1[k]) < std::tie(turn[o], turn1[o]));
         }
         c.corner[v] = peak ? 1 : 0;
       }
@@ -173,9 +182,41 @@ void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves&
   }
 }
 
-void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const FaceGeometry& geometry,
-                     const std::vector<Vec3>& filtered_normals, double lambda, const BoundaryCurves* boundary,
-                     bool feature_aware, std::vector<Vec3>& updated) {
+Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology) {
+  std::vector<std::uint8_t> solid(mesh.num_faces(), 0);
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const Vec3& a = mesh.positions[mesh.faces[f][0]];
+    const Vec3& b = mesh.positions[mesh.faces[f][1]];
+    const Vec3& c = mesh.positions[mesh.faces[f][2]];
+    const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    solid[f] = (b - a).cross(c - a).norm() > 1e-12 * longest2 ? 1 : 0;
+  }
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<std::uint8_t> keep(topology.edges.size(), 0);
+  std::vector<int> count(nv + 1, 0);
+  for (std::size_t e = 0; e < topology.edges.size(); ++e) {
+    const auto [a, b] = topology.edges[e];
+    if (a == b) continue;
+    for (const int* f = topology.edge_faces.begin(e); f != topology.edge_faces.end(e) && !keep[e]; ++f) keep[e] = solid[*f];
+    if (keep[e]) ++count[a + 1], ++count[b + 1];
+  }
+  Adjacency n;
+  n.offsets.resize(nv + 1);
+  for (std::size_t v = 0; v < nv; ++v) count[v + 1] += count[v];
+  n.offsets.assign(count.begin(), count.end());
+  n.indices.resize(static_cast<std::size_t>(n.offsets.back()));
+  std::vector<int> fill(n.offsets.begin(), n.offsets.end() - 1);
+  // Edges are sorted by (smaller, larger), so rows come out ascending when filled in two sweeps.
+  for (std::size_t e = 0; e < topology.edges.size(); ++e)
+    if (keep[e]) n.indices[fill[topology.edges[e][1]]++] = topology.edges[e][0];
+  for (std::size_t e = 0; e < topology.edges.size(); ++e)
+    if (keep[e]) n.indices[fill[topology.edges[e][0]]++] = topology.edges[e][1];
+  return n;
+}
+
+void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const Adjacency& neighbours,
+                     const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
+                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated) {
   const auto nv = static_cast<long>(positions.size());
   updated.resize(positions.size());
 #pragma omp parallel for schedule(static)
@@ -230,7 +271,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     Vec3 r = Vec3::Zero();
     Vec3 wsum = Vec3::Zero();
     double w = 0.0;
-    for (const int* j = topology.vertex_vertices.begin(i); j != topology.vertex_vertices.end(i); ++j) {
+    for (const int* j = neighbours.begin(i); j != neighbours.end(i); ++j) {
       const double wij = (positions[*j] - vi).squaredNorm();
       wsum += wij * positions[*j];
       w += wij;

@@ -35,48 +35,51 @@ void drop_faces(Mesh& m, const std::vector<std::uint8_t>& drop) {
   m.faces.resize(out);
 }
 
-// Splits vertices whose faces form several fans (connected through edges at that vertex).
+// Splits vertices whose faces form several fans (faces connected through edges at that vertex). Faces
+// around v are grouped by union-find over the other vertex of each edge at v: O(n log n) for n faces,
+// so the hub of a fan of thousands of faces costs no more than its faces.
 std::size_t split_nonmanifold_vertices(Mesh& m) {
   const Topology t = build_topology(m);
   std::size_t split = 0;
   const std::size_t nv = m.num_vertices();
+  std::vector<int> parent;
+  std::vector<std::pair<int, int>> spokes;  // (other vertex of an edge at v, local face index)
   for (std::size_t v = 0; v < nv; ++v) {
     const int n = t.vertex_faces.size(v);
     if (n < 2) continue;
     const int* faces = t.vertex_faces.begin(v);
-    std::vector<int> fan(n, -1);
+    parent.resize(static_cast<std::size_t>(n));
+    for (int s = 0; s < n; ++s) parent[s] = s;
+    auto find = [&](int x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    spokes.clear();
+    for (int s = 0; s < n; ++s)
+      for (int x : m.faces[faces[s]])
+        if (x != static_cast<int>(v)) spokes.emplace_back(x, s);
+    std::sort(spokes.begin(), spokes.end());
+    for (std::size_t k = 1; k < spokes.size(); ++k)
+      if (spokes[k].first == spokes[k - 1].first) parent[find(spokes[k].second)] = find(spokes[k - 1].second);
+    // Fans in order of their first face; the first keeps v, every other gets a copy.
+    std::vector<int> fan(static_cast<std::size_t>(n), -1), root_fan(static_cast<std::size_t>(n), -1);
     int fans = 0;
     for (int s = 0; s < n; ++s) {
-      if (fan[s] >= 0) continue;
-      fan[s] = fans;
-      std::vector<int> stack{s};
-      while (!stack.empty()) {
-        const int a = stack.back();
-        stack.pop_back();
-        for (int b = 0; b < n; ++b) {
-          if (fan[b] >= 0) continue;
-          // Faces a and b share an edge through v if they share another vertex.
-          int shared = 0;
-          for (int x : m.faces[faces[a]])
-            for (int y : m.faces[faces[b]]) shared += (x == y && x != static_cast<int>(v)) ? 1 : 0;
-          if (shared > 0) {
-            fan[b] = fans;
-            stack.push_back(b);
-          }
-        }
-      }
-      ++fans;
+      const int r = find(s);
+      if (root_fan[r] < 0) root_fan[r] = fans++;
+      fan[s] = root_fan[r];
     }
+    std::vector<int> copy_of(static_cast<std::size_t>(fans), static_cast<int>(v));
     for (int k = 1; k < fans; ++k) {
-      const int copy = static_cast<int>(m.positions.size());
+      copy_of[k] = static_cast<int>(m.positions.size());
       m.positions.push_back(m.positions[v]);
       for (auto& p : m.vertex_properties) p.values.push_back(p.values[v]);
-      for (int s = 0; s < n; ++s)
-        if (fan[s] == k)
-          for (int& x : m.faces[faces[s]])
-            if (x == static_cast<int>(v)) x = copy;
       ++split;
     }
+    for (int s = 0; s < n; ++s)
+      if (fan[s] > 0)
+        for (int& x : m.faces[faces[s]])
+          if (x == static_cast<int>(v)) x = copy_of[fan[s]];
   }
   return split;
 }

@@ -31,8 +31,9 @@ class PointTree {
   /// Indices within `radius` of every point of `queries` (rows unsorted), in one batched call that FLANN
   /// spreads over `threads` threads; each row depends only on its query, so the result does not depend
   /// on the thread count.
+  /// With max_neighbours > 0, only the nearest max_neighbours of each row are kept.
   void radius_all(const std::vector<Vec3>& queries, double radius, int threads,
-                  std::vector<std::vector<std::size_t>>& out) const {
+                  std::vector<std::vector<std::size_t>>& out, int max_neighbours = -1) const {
     out.assign(queries.size(), {});
     if (data_.rows == 0 || queries.empty()) return;
     std::vector<std::vector<double>> dist;
@@ -40,6 +41,8 @@ class PointTree {
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
     params.sorted = false;
     params.cores = threads;
+    params.max_neighbors = max_neighbours > 0 ? max_neighbours : -1;
+    params.sorted = max_neighbours > 0;  // nearest first, so a capped row keeps the nearest
     index_.radiusSearch(q, out, dist, static_cast<float>(radius * radius), params);
   }
 

@@ -9,12 +9,21 @@
 
 namespace scanmesh {
 
-Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius) {
+Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped) {
   const auto n = static_cast<long>(points.size());
   detail::PointTree tree(points);
-  // FLANN takes the squared radius as float; search a little wider and decide in double below.
+  // FLANN takes the squared radius as float; search a little wider and decide in double below. With a cap,
+  // one more than the cap is asked for, to tell capped rows from full ones.
   std::vector<std::vector<std::size_t>> found;
-  tree.radius_all(points, radius * 1.001, thread_count(), found);
+  tree.radius_all(points, radius * 1.001, thread_count(), found, max_neighbours > 0 ? max_neighbours + 1 : -1);
+  std::size_t cut = 0;
+  if (max_neighbours > 0)
+    for (auto& row : found)
+      if (row.size() > static_cast<std::size_t>(max_neighbours)) {
+        row.resize(static_cast<std::size_t>(max_neighbours));  // FLANN returns them nearest first
+        ++cut;
+      }
+  if (capped != nullptr) *capped = cut;
   const double r2 = radius * radius;
   std::vector<int> counts(points.size(), 0);
 #pragma omp parallel for schedule(dynamic, 1024)

@@ -27,7 +27,9 @@ struct Topology {
   std::vector<std::array<int, 2>> edges;  ///< unique undirected edges, (smaller, larger) index, sorted
   Adjacency edge_faces;                   ///< faces on each edge, ascending (1 = boundary, >2 = non-manifold)
   std::vector<std::array<int, 3>> face_edges;  ///< edge index of (f[0],f[1]), (f[1],f[2]), (f[2],f[0])
-  Adjacency face_faces;  ///< faces sharing an edge with each face, ascending, no duplicates
+  /// Faces sharing an edge with each face, ascending, no duplicates. On a non-manifold edge only the
+  /// faces next to each other in edge_faces are linked (linear size on fans of thousands of faces).
+  Adjacency face_faces;
   std::vector<std::uint8_t> boundary_vertex;  ///< 1 if the vertex lies on a boundary edge
   /// Closed boundary loops as vertex sequences, following the faces' orientation. Only vertices with
   /// exactly two boundary edges are chained; open chains (at non-manifold vertices) are listed too.

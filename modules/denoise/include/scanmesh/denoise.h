@@ -55,12 +55,17 @@ struct DenoiseOptions {
   /// Fidelity term R_i that does not round sharp edges and corners (beyond the paper): on a vertex
   /// whose filtered normals span two directions it moves only along the edge, at three none.
   bool feature_aware_fidelity = false;
+  /// Two kernels (beyond the paper): faces whose neighbourhood bends by less than `feature_threshold`
+  /// (max |m_i - m_j| of pre-filtered normals) use this wider sigma_s, the others `sigma_s`. 0 = off.
+  double smooth_sigma_s = 0.0;
+  double feature_threshold = 0.5;
 };
 
 /// What a denoising run did (for reports).
 struct DenoiseReport {
   double mean_centroid_distance = 0.0;  ///< c_a of the input
   double mean_neighbourhood_size = 0.0;  ///< faces per Omega_i
+  std::size_t capped_neighbourhoods = 0;  ///< faces with more than max_neighbourhood_size() neighbours (nearest used)
   std::size_t boundary_vertices = 0;
   int iterations = 0;
   double seconds_neighbourhoods = 0.0;

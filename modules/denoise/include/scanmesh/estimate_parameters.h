@@ -1,6 +1,7 @@
 #pragma once
 // `--auto`: denoising parameters chosen from the mesh itself, for users without ground truth.
 #include <string>
+#include <vector>
 
 #include "scanmesh/denoise.h"
 #include "scanmesh/mesh.h"
@@ -18,6 +19,10 @@ struct AutoParameters {
 /// Estimated noise standard deviation relative to the mean edge length: the median distance of a vertex
 /// to the least-squares plane of its one-ring neighbours, scaled to a standard deviation.
 double estimate_noise_level(const Mesh& mesh);
+
+/// The statistic behind estimate_noise_level, per interior vertex (mesh units): how far the vertex's height
+/// over its one-ring plane differs from its neighbours' mean height.
+std::vector<double> noise_jumps(const Mesh& mesh);
 
 /// Share of vertices whose faces all have the same normal (to 1e-4): large for CAD tessellations and
 /// already clean meshes, zero for anything carrying scanner noise.

@@ -40,13 +40,19 @@ void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves&
                              const std::vector<Vec3>& filtered_face_normals, double sigma_s,
                              RobustEstimator estimator, double radius_factor);
 
-/// One vertex-update step from `positions` into `updated`. With `boundary` non-null, boundary vertices
+/// The neighbours each vertex's fidelity term R_i averages over: vertex_vertices, but only through edges
+/// of at least one non-degenerate face (area above 1e-12 x longest edge^2). A zero-area sliver joining two
+/// far vertices would otherwise pull both across the object (the weights grow with |v_i - v_j|^2).
+Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology);
+
+/// One vertex-update step from `positions` into `updated`; R_i averages over `neighbours`
+/// (fidelity_neighbours). With `boundary` non-null, boundary vertices
 /// only even out their edges along the boundary (their denoising is smooth_boundary_curves's job).
 /// With `feature_aware`, the fidelity term R_i acts only along sharp edges (not across them) and not at
 /// corners, judged from the normal tensor of the filtered normals around the vertex.
-void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const FaceGeometry& geometry,
-                     const std::vector<Vec3>& filtered_normals, double lambda, const BoundaryCurves* boundary,
-                     bool feature_aware, std::vector<Vec3>& updated);
+void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const Adjacency& neighbours,
+                     const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
+                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated);
 
 /// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
 /// width in mean boundary edge lengths) that reproduces lines and circles, so the boundary does not shrink,

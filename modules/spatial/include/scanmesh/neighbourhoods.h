@@ -9,7 +9,10 @@ namespace scanmesh {
 
 /// For every point, the indices of all points within `radius` (itself included), ascending.
 /// Exact (single k-d tree, unlimited checks); parallel over queries; independent of the thread count.
-Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius);
+/// With `max_neighbours` > 0, a row keeps only the nearest max_neighbours points (so pathological input,
+/// thousands of faces on one spot, stays linear in size); `capped` then counts the rows that were cut.
+Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours = 0,
+                                std::size_t* capped = nullptr);
 
 /// For every point, its k nearest other points, nearest first (fewer if the cloud is smaller).
 /// Exact; parallel; independent of the thread count.
