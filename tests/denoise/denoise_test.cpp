@@ -290,3 +290,59 @@ TEST(Denoise, RejectsBadOptions) {
   EXPECT_THROW(parse_estimator("median"), UsageError);
   EXPECT_THROW(parse_neighbourhood("cube"), UsageError);
 }
+
+TEST(Denoise, SmallCleanPatchesAreFixedPointsAtAnyScale) {
+  // A single triangle, a 1x1, 2x2 and 3x3 grid: open, noise-free, coarse. Their boundaries are polygons
+  // (all corners), not jagged scan rims, and nothing may shrink them, at any scale.
+  Mesh triangle;
+  triangle.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  triangle.faces = {{0, 1, 2}};
+  for (const Mesh& patch : {triangle, test::make_grid(1), test::make_grid(2), test::make_grid(3)})
+    for (double scale : {1e-150, 1.0, 1e80}) {
+      Mesh clean = patch;
+      for (auto& p : clean.positions) p *= scale;
+      Mesh m = clean;
+      denoise(m, DenoiseOptions{});
+      EXPECT_LE(max_displacement(m, clean), 1e-12 * scale) << patch.num_faces() << " faces at scale " << scale;
+    }
+}
+
+TEST(Denoise, ResultsDoNotDependOnTheScale) {
+  // Coordinates of 1e-150 or 1e80 are denoised like those of the unit box: by a power of two exactly
+  // the same result (the denoiser works at unit scale), by another factor the same up to rounding.
+  const Mesh clean = test::make_cube(6);
+  Mesh noisy = clean;
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(noisy, n);
+  Mesh unit = noisy;
+  denoise(unit, DenoiseOptions{});
+  for (double scale : {0x1p-500, 0x1p260, 1e-150, 1e78}) {
+    Mesh m = noisy;
+    for (auto& p : m.positions) p *= scale;
+    denoise(m, DenoiseOptions{});
+    ASSERT_TRUE(all_finite(m)) << scale;
+    for (auto& p : m.positions) p /= scale;
+    const double exact = std::log2(scale) == std::floor(std::log2(scale)) ? 0.0 : 1e-9;
+    EXPECT_LE(max_displacement(m, unit), exact) << scale;
+  }
+}
+
+TEST(Denoise, ZeroAreaSliversDoNotPullVertices) {
+  // A noise-free plane with one degenerate face joining two far corners through a point on the line
+  // between them: the sliver has no area and no normal, so it must not move anything.
+  const Mesh grid = test::make_grid(10, 0.1);
+  Mesh m = grid;
+  m.positions.push_back(Vec3(0.5, 0.5, 0.0));  // on the diagonal from corner 0 to the opposite corner
+  const int far = static_cast<int>(grid.num_vertices()) - 1;
+  m.faces.push_back({0, far, static_cast<int>(m.num_vertices()) - 1});
+  const Mesh before = m;
+  denoise(m, DenoiseOptions{});
+  EXPECT_LT(max_displacement(m, before), 1e-9);
+}
+
+TEST(Denoise, NonFiniteInputIsAnError) {
+  Mesh m = test::make_grid(3);
+  m.positions[4].x() = std::nan("");
+  EXPECT_THROW(denoise(m, DenoiseOptions{}), InputError);
+}

@@ -5,7 +5,6 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
-#include <tuple>
 #include <cstdlib>
 
 #include "scanmesh/normal_filtering.h"
@@ -109,7 +108,10 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
           const long kk = static_cast<long>(k) + d;
           if (d == 0 || (!closed && (kk < 0 || kk >= static_cast<long>(n)))) continue;
           const auto o = static_cast<std::size_t>((kk + static_cast<long>(n)) % static_cast<long>(n));
-          peak = !(std::tie(turn[k], turn1[k]) < std::tie(turn[o], turn1[o]));
+          // Turns within 1e-6 rad count as equal, so rounding cannot decide between plateau vertices.
+          constexpr double eps = 1e-6;
+          const bool beaten = turn[o] > turn[k] + eps || (std::abs(turn[o] - turn[k]) <= eps && turn1[o] > turn1[k] + eps);
+          peak = !beaten;
         }
         c.corner[v] = peak ? 1 : 0;
       }
