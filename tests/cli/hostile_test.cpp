@@ -1,71 +1,22 @@
 // Crafted hostile input (tests/hostile, made by make_cases.py) and pathological meshes built here: each
 // must end in exit code 1 with a message naming the file and the problem (or, for valid but pathological
 // meshes, succeed), never a signal, and with peak memory bounded by the input.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <thread>
 
 #include "helpers.h"
+#include "run_cli.h"
 #include "scanmesh/atomic_file.h"
 
 namespace fs = std::filesystem;
+using scanmesh::test::Outcome;
+using scanmesh::test::run_scanmesh;
 
 namespace {
-
-struct Outcome {
-  int exit_code = -1;  ///< -1 if killed by a signal
-  int signal = 0;
-  double peak_mb = 0.0;
-  double seconds = 0.0;
-  std::string err;
-};
-
-// Runs scanmesh with `args`, stderr captured; a run past `timeout` seconds is killed (a hang).
-Outcome run_scanmesh(const std::vector<std::string>& args, const std::string& err_file, double timeout = 120.0) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 2);
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, 1);
-    std::vector<char*> argv;
-    std::string bin = SCANMESH_BIN;
-    argv.push_back(bin.data());
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(bin.c_str(), argv.data());
-    ::_exit(127);
-  }
-  Outcome o;
-  int status = 0;
-  rusage usage{};
-  for (;;) {
-    const pid_t r = ::wait4(pid, &status, WNOHANG, &usage);
-    if (r == pid) break;
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout) {
-      ::kill(pid, SIGKILL);
-      ::wait4(pid, &status, 0, &usage);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (WIFEXITED(status)) o.exit_code = WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) o.signal = WTERMSIG(status);
-  o.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
-  o.err = scanmesh::read_file(err_file);
-  return o;
-}
 
 class Hostile : public scanmesh::test::TempDirTest {};
 
@@ -162,4 +113,47 @@ TEST_F(Hostile, NonManifoldFansAndBooksStayLinear) {
     EXPECT_LT(d.peak_mb, 400.0) << name;
 #endif
   }
+}
+
+TEST_F(Hostile, ConcurrentRunsWritingOneOutputNeverMix) {
+  // Four runs with different voxel sizes write the same .pcd (and sidecar) at once: what is left is
+  // exactly one run's complete file, and its sidecar belongs to the same run.
+  const std::string cloud = std::string(SCANMESH_DATA_DIR) + "/bun0.pcd";
+  const std::vector<std::string> leaves = {"1*spacing", "2*spacing", "3*spacing", "4*spacing"};
+  std::vector<std::string> expected;
+  for (const auto& leaf : leaves) {
+    const std::string yaml = write("p.yaml", "pipeline:\n  - " + cloud + "\n  - type: cloud.voxel\n    leaf: " + leaf + "\n  - " +
+                                                 path("solo.pcd") + "\n");
+    ASSERT_EQ(run_scanmesh({"run", yaml, "-q"}, path("err")).exit_code, 0);
+    expected.push_back(scanmesh::read_file(path("solo.pcd")));
+  }
+  for (int round = 0; round < 3; ++round) {
+    std::vector<pid_t> pids;
+    for (std::size_t k = 0; k < leaves.size(); ++k) {
+      const std::string yaml = write("p" + std::to_string(k) + ".yaml", "pipeline:\n  - " + cloud + "\n  - type: cloud.voxel\n    leaf: " +
+                                                                           leaves[k] + "\n  - " + path("same.pcd") + "\n");
+      pids.push_back(scanmesh::test::spawn_scanmesh({"run", yaml, "-q"}, path("err" + std::to_string(k))));
+    }
+    for (std::size_t k = 0; k < pids.size(); ++k)
+      EXPECT_EQ(scanmesh::test::wait_scanmesh(pids[k], path("err" + std::to_string(k))).exit_code, 0);
+    const std::string got = scanmesh::read_file(path("same.pcd"));
+    EXPECT_NE(std::find(expected.begin(), expected.end(), got), expected.end()) << "round " << round << ": a mix of runs";
+  }
+}
+
+TEST_F(Hostile, AKilledRunIsNotTakenForDone) {
+  // A long run killed outright leaves no output, so --skip-existing runs it again instead of skipping.
+  const std::string yaml = write("p.yaml", "pipeline:\n  - " + std::string(SCANMESH_DATA_DIR) +
+                                               "/fandisk-noisy.obj\n  - type: mesh.denoise\n    iterations: 5000\n  - type: report\n"
+                                               "    figures: false\n  - " + path("out.ply") + "\n");
+  const pid_t pid = scanmesh::test::spawn_scanmesh({"run", yaml, "-q", "--threads", "1"}, path("err"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  ::kill(pid, SIGKILL);
+  EXPECT_EQ(scanmesh::test::wait_scanmesh(pid, path("err")).signal, SIGKILL);
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+  const Outcome again = run_scanmesh({"run", yaml, "--skip-existing", "--set", "mesh.denoise.iterations=2"}, path("err"));
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.err.find("skipped"), std::string::npos) << again.err;
+  EXPECT_TRUE(fs::exists(path("out.ply")));
+  for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }

@@ -140,6 +140,39 @@ TEST_F(PipelineTest, AFailingRunLeavesAFailedSidecarAndNoOutput) {
   EXPECT_NE(json.find("mesh.organized"), std::string::npos) << json;
 }
 
+TEST_F(PipelineTest, AFailureAfterAWriterLeavesNoOutputOfThatWriter) {
+  // Outputs are committed only when the whole run succeeds; the intermediate writer's file never appears.
+  const std::string yaml = "pipeline:\n  - " + path("in.ply") + "\n  - type: write\n    filename: " + path("mid.ply") +
+                           "\n  - type: cloud.voxel\n  - " + path("out.ply") + "\n";
+  Pipeline p = Pipeline::load(write("p.yaml", yaml), {});
+  EXPECT_THROW(p.run(), Error);
+  EXPECT_FALSE(fs::exists(path("mid.ply")));
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+  for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+}
+
+TEST_F(PipelineTest, NoWriterMayOverwriteAnInput) {
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: write\n    filename: " + path("in.ply") +
+                          "\n  - type: mesh.denoise\n  - " + path("out.ply") + "\n",
+                      3, "is an input of this pipeline");
+}
+
+TEST_F(PipelineTest, AMissingOutputFolderFailsAtLoading) {
+  expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n  - " + path("no/such/folder/out.ply") + "\n", 4,
+                      "does not exist");
+}
+
+TEST_F(PipelineTest, AnEmptyResultIsAFailure) {
+  // Cropping every point away: nothing to write is an error, with a failed sidecar, not an empty file.
+  write("c.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
+  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.crop\n    min: [5, 5, 5]\n  - type: report\n  - " +
+                           path("out.ply") + "\n";
+  Pipeline p = Pipeline::load(write("p.yaml", yaml), {});
+  EXPECT_THROW(p.run(), Error);
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+  EXPECT_NE(read_file(report_paths(path("out.ply")).json).find("\"status\": \"failed\""), std::string::npos);
+}
+
 TEST(PipelineSchema, EveryStageTypeIsListed) {
   const auto schema = pipeline_schema();
   std::vector<std::string> types;

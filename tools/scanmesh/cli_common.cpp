@@ -43,6 +43,7 @@ void check_output_path(const std::string& in, const std::string& out) {
                      "'; supported: .obj .off .ply .stl");
   if (in == out || same_file(in, out))
     throw UsageError("output '" + out + "' is the input file; scanmesh never overwrites its input");
+  check_writable(out);  // a missing or read-only folder fails now, not after the work
 }
 
 Progress::Progress(std::string label, bool quiet)

@@ -17,7 +17,8 @@ bool parse(const std::vector<std::string>& args, const po::options_description& 
            const std::vector<std::string>& positional, po::variables_map& vm, const std::string& usage,
            const std::string& details);
 
-/// Throws UsageError unless `out` is a different file from `in` and has a known mesh extension.
+/// Throws UsageError unless `out` is a different file from `in` and has a known mesh extension, and
+/// OutputError unless its folder exists and is writable.
 void check_output_path(const std::string& in, const std::string& out);
 
 /// Progress bar on a terminal, plain lines otherwise; silent with --quiet.

@@ -163,7 +163,9 @@ PointCloud read_cloud(const std::string& path, std::vector<std::string>* warning
   return cloud;
 }
 
-void write_cloud_ply(const PointCloud& cloud, const std::string& path) {
+namespace {
+
+Mesh cloud_as_mesh(const PointCloud& cloud) {
   Mesh m;
   m.positions = cloud.points;
   if (cloud.has_normals()) {
@@ -182,9 +184,19 @@ void write_cloud_ply(const PointCloud& cloud, const std::string& path) {
       m.vertex_properties.push_back(std::move(p));
     }
   }
-  write_mesh(m, path);
+  return m;
 }
 
-void write_cloud_pcd(const PointCloud& cloud, const std::string& path) { write_file_atomically(path, detail::encode_pcd(cloud)); }
+}  // namespace
+
+std::string encode_cloud(const PointCloud& cloud, const std::string& extension) {
+  if (extension == ".pcd") return detail::encode_pcd(cloud);
+  if (extension == ".ply") return encode_mesh(cloud_as_mesh(cloud), ".ply");
+  throw UsageError("cannot write a point cloud as '" + extension + "'; use .ply or .pcd");
+}
+
+void write_cloud_ply(const PointCloud& cloud, const std::string& path) { write_file_atomically(path, encode_cloud(cloud, ".ply")); }
+
+void write_cloud_pcd(const PointCloud& cloud, const std::string& path) { write_file_atomically(path, encode_cloud(cloud, ".pcd")); }
 
 }  // namespace scanmesh

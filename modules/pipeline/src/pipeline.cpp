@@ -43,6 +43,7 @@ struct Data {
 
 struct RunContext {
   const PipelineOptions* options = nullptr;
+  OutputTransaction* outputs = nullptr;  // every file the run writes, made visible when it succeeds
   std::string input_path, output_path;
   std::vector<std::string> warnings;
   ReportInput* report = nullptr;
@@ -106,14 +107,18 @@ struct WriterStage : Stage {
     b.text("filename", filename);
     b.flag("ascii", ascii);
   }
-  void run(Data& d, RunContext&) override {
+  void run(Data& d, RunContext& ctx) override {
+    const std::string ext = lower_extension(filename);
     if (d.mesh) {
+      if (d.mesh->faces.empty()) throw InputError("nothing to write: the mesh has no faces");
+      for (const auto& p : d.mesh->positions)
+        if (!p.allFinite()) throw InputError("the mesh has non-finite coordinates; nothing is written");
       WriteOptions w;
       w.binary = !ascii;
-      write_mesh(*d.mesh, filename, w);
+      ctx.outputs->write(filename, encode_mesh(*d.mesh, ext, w));
     } else if (d.cloud) {
-      if (lower_extension(filename) == ".pcd") write_cloud_pcd(*d.cloud, filename);
-      else write_cloud_ply(*d.cloud, filename);
+      if (d.cloud->finite_count() == 0) throw InputError("nothing to write: the cloud has no points");
+      ctx.outputs->write(filename, encode_cloud(*d.cloud, ext == ".pcd" ? ".pcd" : ".ply"));
     } else {
       throw InputError("nothing to write: the pipeline produced neither a cloud nor a mesh");
     }
@@ -568,9 +573,26 @@ Pipeline Pipeline::load(const std::string& path, const PipelineOptions& options)
         throw ConfigError(s.where.prefix() + ": key 'reference': file '" + ref + "' does not exist");
     }
   }
-  for (auto& s : impl->slots)
-    if (s.where.type == "read" && !impl->output.empty() && same_file(static_cast<ReaderStage*>(s.stage.get())->filename, impl->output))
-      throw ConfigError(s.where.prefix() + ": the output '" + impl->output + "' is the input file; scanmesh never overwrites its input");
+  // No stage may write over any file the pipeline reads, and every output folder must exist and be
+  // writable, so a run cannot compute everything and then fail at the end.
+  std::vector<std::string> inputs;
+  for (auto& s : impl->slots) {
+    if (s.where.type == "read") inputs.push_back(static_cast<ReaderStage*>(s.stage.get())->filename);
+    if (s.where.type == "report" && !static_cast<ReportStage*>(s.stage.get())->o.reference.empty())
+      inputs.push_back(static_cast<ReportStage*>(s.stage.get())->o.reference);
+  }
+  for (auto& s : impl->slots) {
+    if (s.where.type != "write") continue;
+    const std::string f = static_cast<WriterStage*>(s.stage.get())->filename;
+    for (const auto& in : inputs)
+      if (f == in || same_file(f, in))
+        throw ConfigError(s.where.prefix() + ": key 'filename': '" + f + "' is an input of this pipeline; scanmesh never overwrites its input");
+    try {
+      check_writable(f);
+    } catch (const OutputError& e) {
+      throw ConfigError(s.where.prefix() + ": key 'filename': " + e.what());
+    }
+  }
   return Pipeline(std::move(impl));
 }
 
@@ -582,8 +604,10 @@ PipelineResult Pipeline::run() {
   report.tool_version = SCANMESH_VERSION;
   report.config_yaml = resolved_config();
   report.threads = thread_count();
+  OutputTransaction outputs;
   RunContext ctx;
   ctx.options = &impl_->options;
+  ctx.outputs = &outputs;
   ctx.report = &report;
   const ReportStage* report_stage = nullptr;
   for (const auto& s : impl_->slots) {
@@ -631,11 +655,12 @@ PipelineResult Pipeline::run() {
       report.mesh = data.mesh ? &*data.mesh : nullptr;
       report.before = data.before ? &*data.before : nullptr;
       report.reference = reference ? &*reference : nullptr;
-      result.report_files = write_report(report, report_stage->o);
+      result.report_files = write_report(report, report_stage->o, outputs);
       const ReportPaths p = report_paths(impl_->output);
       result.report_files.insert(result.report_files.begin(), p.json);
       if (report_stage->o.figures) result.report_files.push_back(p.html);
     }
+    outputs.commit();
   } catch (const std::exception& e) {
     if (report_stage && !impl_->output.empty()) {
       report.status = "failed";

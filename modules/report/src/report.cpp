@@ -306,11 +306,12 @@ void write_failure_sidecar(const ReportInput& input, const std::string& error) {
   write_file_atomically(report_paths(input.output_path).json, sidecar(input, nullptr, {}, error));
 }
 
-std::vector<std::string> write_report(const ReportInput& in, const ReportOptions& options) {
+std::vector<std::string> write_report(const ReportInput& in, const ReportOptions& options, OutputTransaction& outputs) {
   const ReportPaths paths = report_paths(in.output_path);
   std::vector<Histogram> hists;
   std::optional<MeshMetrics> metrics;
   std::vector<std::string> figures;
+  std::vector<std::string> pngs;  // the figures' bytes, embedded in the page
   if (in.mesh != nullptr) {
     const Mesh& m = *in.mesh;
     metrics = evaluate(m, in.reference);
@@ -348,7 +349,8 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
         std::vector<unsigned char> png;
         cv::imencode(".png", img, png);
         const std::string file = (std::filesystem::path(paths.folder) / name).string();
-        write_file_atomically(file, std::string(png.begin(), png.end()));
+        pngs.emplace_back(png.begin(), png.end());
+        outputs.write(file, pngs.back());
         figures.push_back(file);
       };
       for (const auto& h : hists) save(h.name + ".png", render_histogram(h));
@@ -394,7 +396,7 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
       }
     }
   }
-  write_file_atomically(paths.json, sidecar(in, metrics ? &*metrics : nullptr, hists, ""));
+  outputs.write(paths.json, sidecar(in, metrics ? &*metrics : nullptr, hists, ""));
   if (options.figures) {
     std::ostringstream h;
     h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>scanmesh report: " << std::filesystem::path(in.output_path).filename().string()
@@ -421,18 +423,16 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
         << fmt(s.peak_memory_mb, 4) << "</td><td>" << s.points << "</td><td>" << s.faces << "</td><td style=\"text-align:left\">" << html_escape(s.details)
         << "</td></tr>\n";
     h << "</table>\n<h2>Configuration</h2><pre>" << html_escape(in.config_yaml) << "</pre>\n<h2>Figures</h2>\n";
-    for (const auto& f : figures) {
-      const std::string bytes = read_file(f);
-      h << "<img alt=\"" << std::filesystem::path(f).filename().string() << "\" src=\"data:image/png;base64,"
-        << base64(std::vector<unsigned char>(bytes.begin(), bytes.end())) << "\">\n";
-    }
+    for (std::size_t k = 0; k < figures.size(); ++k)
+      h << "<img alt=\"" << std::filesystem::path(figures[k]).filename().string() << "\" src=\"data:image/png;base64,"
+        << base64(std::vector<unsigned char>(pngs[k].begin(), pngs[k].end())) << "\">\n";
     if (!in.warnings.empty()) {
       h << "<h2>Warnings</h2><ul>";
       for (const auto& w : in.warnings) h << "<li>" << html_escape(w) << "</li>";
       h << "</ul>\n";
     }
     h << "</body></html>\n";
-    write_file_atomically(paths.html, h.str());
+    outputs.write(paths.html, h.str());
   }
   return figures;
 }

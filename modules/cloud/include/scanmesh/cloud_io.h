@@ -41,6 +41,9 @@ bool parse_conf_pose(std::string_view conf_text, const std::string& conf_file, c
 /// True if read_cloud understands this (lower-case, dotted) extension.
 bool is_cloud_extension(const std::string& extension);
 
+/// A cloud encoded for a file with extension `extension`: ".pcd" (binary_compressed) or ".ply" (binary).
+std::string encode_cloud(const PointCloud& cloud, const std::string& extension);
+
 /// Writes a cloud as binary PLY (positions, normals and colours when present), atomically.
 void write_cloud_ply(const PointCloud& cloud, const std::string& path);
 

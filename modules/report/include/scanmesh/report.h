@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scanmesh/atomic_file.h"
 #include "scanmesh/mesh.h"
 
 namespace scanmesh {
@@ -50,8 +51,9 @@ struct ReportPaths {
 };
 ReportPaths report_paths(const std::string& output_path);
 
-/// Writes the sidecar and, with options.figures, the figures and the page. Returns the figure files.
-std::vector<std::string> write_report(const ReportInput& input, const ReportOptions& options);
+/// Writes the sidecar and, with options.figures, the figures and the page into `outputs` (visible when
+/// the caller commits them). Returns the figure files.
+std::vector<std::string> write_report(const ReportInput& input, const ReportOptions& options, OutputTransaction& outputs);
 
 /// Writes only a sidecar with status "failed" and the error (used when a run stops on an error).
 void write_failure_sidecar(const ReportInput& input, const std::string& error);
