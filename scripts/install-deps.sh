@@ -16,6 +16,7 @@ packages=(
   libgtest-dev libgmock-dev             # unit tests
   libbenchmark-dev                      # micro-benchmarks
   libomp-dev                            # OpenMP runtime headers (GCC uses libgomp, shipped with g++)
+  clang libclang-rt-14-dev              # libFuzzer and the clang sanitizer runtimes (scripts/fuzz.sh)
 )
 
 missing=()

@@ -157,3 +157,29 @@ TEST_F(Hostile, AKilledRunIsNotTakenForDone) {
   EXPECT_TRUE(fs::exists(path("out.ply")));
   for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }
+
+TEST_F(Hostile, RunningOutOfMemoryIsAMessageNotACrash) {
+#ifdef SCANMESH_SANITIZED
+  GTEST_SKIP() << "the memory guard is off under AddressSanitizer";
+#else
+  // A 51k-face plane denoised with a radius of 10 c_a needs ~1.3 GB of neighbourhoods; under a 300 MB
+  // limit the allocation fails inside FLANN's parallel search, which must still end in exit code 1.
+  std::string off = "OFF\n" + std::to_string(161 * 161) + " " + std::to_string(2 * 160 * 160) + " 0\n";
+  for (int j = 0; j <= 160; ++j)
+    for (int i = 0; i <= 160; ++i) off += std::to_string(i) + " " + std::to_string(j) + " " + std::to_string(0.1 * ((i * 7 + j * 13) % 5)) + "\n";
+  for (int j = 0; j < 160; ++j)
+    for (int i = 0; i < 160; ++i) {
+      const int a = j * 161 + i, b = a + 1, c = a + 162, d = a + 161;
+      off += "3 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n3 " + std::to_string(a) + " " +
+             std::to_string(c) + " " + std::to_string(d) + "\n";
+    }
+  const std::string file = write("plane.off", off);
+  ::setenv("SCANMESH_MAX_MEMORY_MB", "300", 1);
+  const Outcome o = run_scanmesh({"denoise", file, path("out.off"), "--radius-factor", "10", "-q"}, path("err"));
+  ::unsetenv("SCANMESH_MAX_MEMORY_MB");
+  EXPECT_EQ(o.signal, 0);
+  EXPECT_EQ(o.exit_code, 1) << o.err;
+  EXPECT_NE(o.err.find("out of memory"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(path("out.off")));
+#endif
+}

@@ -1,6 +1,11 @@
 #include "cli_common.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <cstdlib>
+#include <exception>
+#include <new>
 
 #include <cstdio>
 #include <iostream>
@@ -65,6 +70,76 @@ void Progress::operator()(int done, int total) {
     std::fprintf(stderr, "%s: %d/%d\n", label_.c_str(), done, total);
   }
   last_percent_ = percent;
+}
+
+namespace {
+
+double g_limit_mb = 0.0;
+std::string g_command;
+
+[[noreturn]] void out_of_memory_exit() {
+  std::fprintf(stderr, "scanmesh %s: error: out of memory (limit %.0f MB: the machine's physical memory, or SCANMESH_MAX_MEMORY_MB)\n",
+               g_command.c_str(), g_limit_mb);
+  std::_Exit(kBadInput);
+}
+
+bool under_address_sanitizer() {
+#if defined(__SANITIZE_ADDRESS__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return true;
+#else
+  return false;
+#endif
+#else
+  return false;
+#endif
+}
+
+}  // namespace
+
+double memory_limit_mb() { return g_limit_mb; }
+
+void install_memory_guard(const std::string& command) {
+  g_command = command;
+  std::set_new_handler(nullptr);
+  std::set_terminate([] {
+    // An exception escaping an OpenMP region ends here; out of memory gets its message and exit code.
+    if (const std::exception_ptr e = std::current_exception()) {
+      try {
+        std::rethrow_exception(e);
+      } catch (const std::bad_alloc&) {
+        out_of_memory_exit();
+      } catch (...) {
+      }
+    }
+    std::fprintf(stderr, "scanmesh %s: internal error (terminate)\n", g_command.c_str());
+    std::abort();
+  });
+  if (under_address_sanitizer()) return;
+  double mb = 0.0;
+  if (const char* env = std::getenv("SCANMESH_MAX_MEMORY_MB")) {
+    mb = std::atof(env);
+  } else {
+    std::FILE* f = std::fopen("/proc/meminfo", "r");
+    char line[256];
+    while (f != nullptr && std::fgets(line, sizeof line, f) != nullptr) {
+      unsigned long long kb = 0;
+      if (std::sscanf(line, "MemTotal: %llu kB", &kb) == 1) {
+        mb = static_cast<double>(kb) / 1024.0;
+        break;
+      }
+    }
+    if (f != nullptr) std::fclose(f);
+  }
+  if (!(mb > 0.0)) return;
+  rlimit r{};
+  ::getrlimit(RLIMIT_AS, &r);
+  const auto bytes = static_cast<rlim_t>(mb * 1048576.0);
+  if (r.rlim_max != RLIM_INFINITY && bytes > r.rlim_max) return;
+  r.rlim_cur = bytes;
+  if (::setrlimit(RLIMIT_AS, &r) == 0) g_limit_mb = mb;
 }
 
 void print_warnings(const std::vector<std::string>& warnings, bool quiet) {

@@ -33,6 +33,15 @@ class Progress {
   int last_percent_ = -1;
 };
 
+/// Bounds this process's memory so that input needing more fails with a message (exit 1) instead of
+/// swapping or being killed by the kernel: the address space is limited to SCANMESH_MAX_MEMORY_MB if set,
+/// else to the machine's physical memory (skipped under AddressSanitizer, which reserves far more), and
+/// an allocation failing inside a parallel loop (where it cannot be caught) ends the process the same way.
+void install_memory_guard(const std::string& command);
+
+/// The limit install_memory_guard set, in MB (0 = none).
+double memory_limit_mb();
+
 /// Prints warnings to stderr unless quiet.
 void print_warnings(const std::vector<std::string>& warnings, bool quiet);
 

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   }
   const std::string command = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
+  cli::install_memory_guard(command);
   try {
     if (command == "denoise") return cli::run_denoise(args);
     if (command == "noise") return cli::run_noise(args);
@@ -83,7 +84,8 @@ int main(int argc, char** argv) {
     std::cerr << "scanmesh " << command << ": error: " << e.what() << "\n";
     return cli::kBadInput;
   } catch (const std::bad_alloc&) {
-    std::cerr << "scanmesh " << command << ": error: out of memory\n";
+    std::cerr << "scanmesh " << command << ": error: out of memory (limit " << cli::memory_limit_mb()
+              << " MB: the machine's physical memory, or SCANMESH_MAX_MEMORY_MB)\n";
     return cli::kBadInput;
   } catch (const std::exception& e) {
     std::cerr << "scanmesh " << command << ": internal error: " << e.what() << "\n";

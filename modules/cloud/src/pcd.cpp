@@ -229,9 +229,13 @@ PointCloud decode_pcd(std::string_view data, const std::string& file) {
   const auto n = static_cast<std::size_t>(h.points);
 
   PointCloud cloud;
-  cloud.points.resize(n);
-  if (normals) cloud.normals.resize(n);
-  if (fc >= 0) cloud.colours.resize(n);
+  // Allocated only once the data is known to hold n points (binary and ascii: the header check; compressed:
+  // after the block has expanded to its announced size).
+  auto allocate = [&] {
+    cloud.points.resize(n);
+    if (normals) cloud.normals.resize(n);
+    if (fc >= 0) cloud.colours.resize(n);
+  };
   auto store_colour = [&](std::size_t i, std::uint32_t bits) {
     cloud.colours[i] = {static_cast<std::uint8_t>((bits >> 16) & 0xff), static_cast<std::uint8_t>((bits >> 8) & 0xff),
                         static_cast<std::uint8_t>(bits & 0xff)};
@@ -249,6 +253,7 @@ PointCloud decode_pcd(std::string_view data, const std::string& file) {
     std::size_t pos = h.body, point = 0, line_no = 0;
     for (std::size_t k = 0; k < h.body; ++k) line_no += data[k] == '\n' ? 1 : 0;
     std::vector<std::string_view> tok;
+    allocate();
     while (pos < data.size() && point < n) {
       std::size_t end = data.find('\n', pos);
       if (end == std::string_view::npos) end = data.size();
@@ -307,6 +312,7 @@ PointCloud decode_pcd(std::string_view data, const std::string& file) {
       body = unpacked;
       field_major = true;
     }
+    allocate();
     auto at = [&](int field, std::size_t i) {
       const Field& f = h.fields[static_cast<std::size_t>(field)];
       const std::size_t element = static_cast<std::size_t>(f.size) * static_cast<std::size_t>(f.count);

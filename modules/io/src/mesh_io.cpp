@@ -42,7 +42,11 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   if (!is_mesh_extension(ext))
     throw InputError("'" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .obj .off .ply .stl");
-  const std::string data = read_file(path);
+  return decode_mesh(read_file(path), path, warnings);
+}
+
+Mesh decode_mesh(std::string_view data, const std::string& path, std::vector<std::string>* warnings) {
+  const std::string ext = lower_extension(path);
   if (data.empty()) throw InputError("'" + path + "': file is empty");
   std::vector<std::string> local;
   std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
@@ -50,7 +54,8 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   if (ext == ".obj") mesh = detail::read_obj(data, path, w);
   else if (ext == ".off") mesh = detail::read_off(data, path, w);
   else if (ext == ".ply") mesh = detail::read_ply(data, path, w);
-  else mesh = detail::read_stl(data, path, w);
+  else if (ext == ".stl") mesh = detail::read_stl(data, path, w);
+  else throw InputError("'" + path + "': unknown mesh format '" + ext + "'; supported: .obj .off .ply .stl");
   validate_mesh(mesh, "'" + path + "'");
   if (mesh.faces.empty()) throw InputError("'" + path + "': contains no faces");
   return mesh;

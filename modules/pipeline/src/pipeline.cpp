@@ -410,17 +410,26 @@ std::vector<std::pair<std::string, std::vector<std::string>>> pipeline_schema() 
 }
 
 Pipeline Pipeline::load(const std::string& path, const PipelineOptions& options) {
+  std::string text;
+  try {
+    text = read_file(path);
+  } catch (const InputError& e) {
+    throw ConfigError(std::string("pipeline: ") + e.what());
+  }
+  return parse(text, path, options);
+}
+
+Pipeline Pipeline::parse(std::string_view yaml, const std::string& path, const PipelineOptions& options) {
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   impl->options = options;
   YAML::Node root;
   try {
-    if (!std::filesystem::exists(path)) throw ConfigError("cannot open pipeline '" + path + "': No such file or directory");
-    root = YAML::LoadFile(path);
+    root = YAML::Load(std::string(yaml));
   } catch (const YAML::ParserException& e) {
     throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  } catch (const YAML::BadFile&) {
-    throw ConfigError("cannot read pipeline '" + path + "'");
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path + ": YAML error: " + e.msg);
   }
   YAML::Node list = root;
   if (root.IsMap()) {

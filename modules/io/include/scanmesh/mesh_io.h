@@ -20,6 +20,9 @@ namespace scanmesh {
 /// (polygons triangulated, ignored elements) are appended to `warnings` if given.
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
+/// The same on a file's bytes in memory; `file` names it in messages and its extension picks the format.
+Mesh decode_mesh(std::string_view data, const std::string& file, std::vector<std::string>* warnings = nullptr);
+
 /// The range image of a Stanford range scan PLY (`element range_grid` with `obj_info num_cols/num_rows`):
 /// for every grid cell, row by row, the index of the vertex measured there, or -1.
 struct RangeGrid {

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "scanmesh/errors.h"
@@ -44,6 +45,8 @@ struct PipelineResult {
 class Pipeline {
  public:
   static Pipeline load(const std::string& path, const PipelineOptions& options);
+  /// The same on YAML text in memory; `path` names it in messages.
+  static Pipeline parse(std::string_view yaml, const std::string& path, const PipelineOptions& options);
   ~Pipeline();
   Pipeline(Pipeline&&) noexcept;
   Pipeline& operator=(Pipeline&&) noexcept;
