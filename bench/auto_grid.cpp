@@ -55,11 +55,12 @@ Quality compare(const std::vector<Vec3>& positions, const std::vector<Face>& fac
 
 int main(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
-  std::string only;
+  std::string only, skip;
   std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
   std::vector<double> smooth = {0.0}, thresholds = {0.5};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--skip") && i + 1 < argc) skip = argv[++i];
     else if (!std::strcmp(argv[i], "--sigmas") && i + 1 < argc) sigmas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
@@ -75,7 +76,7 @@ int main(int argc, char** argv) {
   const std::vector<int> checkpoints = {1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 12,  14,  16,  18,  20,  23,  26,
                                         30, 35, 40, 45, 50, 60, 70, 80, 90, 100, 115, 130, 150, 175, 200};
   for (const auto& model : models) {
-    if (!only.empty() && model.name != only) continue;
+    if ((!only.empty() && model.name != only) || model.name == skip) continue;
     for (const auto& pair : bench::load_pairs(model)) {
       const auto t0 = std::chrono::steady_clock::now();
       FaceGeometry g;
