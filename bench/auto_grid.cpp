@@ -57,7 +57,10 @@ int main(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
   std::string only, skip;
   std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
-  std::vector<double> smooth = {0.0}, thresholds = {0.5};
+  std::vector<double> smooth = {0.0}, thresholds = {0.5}, caps = {0.0}, outliers = {0.0};
+  double mask_fraction = 0.0;  // > 0: self-supervised probe runs on a masked copy (M lines)
+  double prefilter_sigma = 2.0;
+  int prefilter_passes = 2;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--skip") && i + 1 < argc) skip = argv[++i];
@@ -66,6 +69,13 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--smooth") && i + 1 < argc) smooth = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--thresholds") && i + 1 < argc) thresholds = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--caps") && i + 1 < argc) caps = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--outliers") && i + 1 < argc) outliers = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--mask") && i + 1 < argc) mask_fraction = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--prefilter") && i + 2 < argc) {
+      prefilter_sigma = std::atof(argv[++i]);
+      prefilter_passes = std::atoi(argv[++i]);
+    }
     else data = argv[i];
   }
   const auto models = bench::corpus_models(data);
@@ -103,7 +113,7 @@ int main(int argc, char** argv) {
         compute_face_geometry(pair.noisy.positions, pair.noisy.faces, ng);
         const double c_a = mean_centroid_distance(pair.noisy, topo, ng);
         const Adjacency nbh = face_neighbourhoods(topo, ng, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
-        const std::vector<double> phi = feature_strength(ng, nbh, c_a, 2);
+        const std::vector<double> phi = feature_strength(ng, nbh, c_a, 2, 2.0);
         const double t[4] = {0.3, 0.5, 0.7, 1.0};
         for (double x : phi)
           for (int k = 0; k < 4; ++k) share[k] += x > t[k] ? 1.0 / static_cast<double>(phi.size()) : 0.0;
@@ -116,15 +126,49 @@ int main(int argc, char** argv) {
         for (double s : sigmas)
           for (double l : lambdas)
             for (double sm : smooth)
-              for (double th : (sm > 0.0 ? thresholds : std::vector<double>{0.0})) {
+              for (double th : (sm > 0.0 ? thresholds : std::vector<double>{0.0}))
+                for (double cp0 : caps)
+                  for (double ou : outliers) {
+            const double cp = ou > 0.0 ? -ou : cp0;  // the csv's last column: cap, or -threshold for outlier runs
             if (sm > 0.0 && sm <= s) continue;
             Mesh m = pair.noisy;
+            // Masked probe: a sparse set of interior vertices (no two adjacent) is moved to the mean of its
+            // one-ring, so the denoiser never sees their noisy positions; how far the result lands from those
+            // positions (along the normal) estimates the error plus the noise, without ground truth.
+            std::vector<int> masked;
+            if (mask_fraction > 0.0) {
+              std::vector<std::uint8_t> blocked(m.num_vertices(), 0);
+              std::uint64_t h = 88172645463325252ull;
+              std::vector<int> order(m.num_vertices());
+              for (std::size_t v = 0; v < order.size(); ++v) order[v] = static_cast<int>(v);
+              for (std::size_t v = order.size(); v > 1; --v) {
+                h ^= h << 13, h ^= h >> 7, h ^= h << 17;
+                std::swap(order[v - 1], order[h % v]);
+              }
+              const std::size_t want = static_cast<std::size_t>(mask_fraction * m.num_vertices());
+              for (int v : order) {
+                if (masked.size() >= want) break;
+                if (blocked[v] || topo.boundary_vertex[v] || topo.vertex_vertices.size(v) < 3) continue;
+                masked.push_back(v);
+                blocked[v] = 1;
+                for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w) blocked[*w] = 1;
+              }
+              for (int v : masked) {
+                Vec3 c = Vec3::Zero();
+                for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w) c += pair.noisy.positions[*w];
+                m.positions[v] = c / topo.vertex_vertices.size(v);
+              }
+            }
             DenoiseOptions o;
             o.sigma_s = s;
             o.lambda = l;
             o.radius_factor = r;
             o.smooth_sigma_s = sm;
             o.feature_threshold = th;
+            o.feature_prefilter_sigma = prefilter_sigma;
+            o.feature_prefilter_passes = prefilter_passes;
+            o.displacement_cap = cp0;
+            o.outlier_jump = ou;
             o.iterations = checkpoints.back();
             std::size_t next = 0;
             FaceGeometry cg;
@@ -144,8 +188,15 @@ int main(int argc, char** argv) {
                 n2 += std::pow(d.dot(vn[v]), 2);
                 ++count;
               }
-              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g\n", pair.model.c_str(), pair.variant.c_str(), s, l, r,
-                          sm, th, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)), std::sqrt(d2 / std::max<std::size_t>(1, count)));
+              if (!masked.empty()) {
+                double loss = 0.0;
+                for (int v : masked) loss += std::pow((pos[v] - pair.noisy.positions[v]).dot(vn[v]), 2);
+                std::printf("M,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%.8g,%.2f\n", pair.model.c_str(), pair.variant.c_str(), s, l, r, sm, th, it,
+                            q.msae, loss / static_cast<double>(masked.size()), cp);
+                return;
+              }
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f\n", pair.model.c_str(), pair.variant.c_str(), s, l, r,
+                          sm, th, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)), std::sqrt(d2 / std::max<std::size_t>(1, count)), cp);
             });
           }
       std::fflush(stdout);

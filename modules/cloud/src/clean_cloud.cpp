@@ -53,14 +53,6 @@ void apply_keep(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
 
 }  // namespace
 
-CloudScale measure_scale(const PointCloud& cloud) {
-  const std::vector<Vec3> pts = finite_points(cloud);
-  CloudScale s;
-  s.spacing = mean_nearest_neighbour_distance(pts);
-  s.diagonal = bbox_diagonal(pts);
-  return s;
-}
-
 void crop(PointCloud& cloud, const CropOptions& o) {
   std::vector<std::uint8_t> keep(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -105,21 +97,24 @@ void voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const CloudScale
 }
 
 void remove_outliers(PointCloud& cloud, const OutlierOptions& o, const CloudScale& scale) {
-  if (o.neighbours < 1) throw UsageError("outliers: neighbours must be >= 1");
-  if (!(o.std_ratio > 0.0)) throw UsageError("outliers: std_ratio must be > 0");
+  OutlierOptions::schema().validate(o);
+  if (!(o.std_ratio > 0.0) && !(o.radius.value > 0.0)) return;  // both tests off
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   if (pts.size() <= static_cast<std::size_t>(o.neighbours)) return;
   auto pc = to_pcl(pts);
   std::vector<std::uint8_t> keep(cloud.size(), 0);
-  pcl::Indices kept;
-  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
-  sor.setInputCloud(pc);
-  sor.setMeanK(o.neighbours);
-  sor.setStddevMulThresh(o.std_ratio);
-  sor.filter(kept);
-  std::vector<std::uint8_t> pass(pts.size(), 0);
-  for (auto k : kept) pass[k] = 1;
+  std::vector<std::uint8_t> pass(pts.size(), 1);
+  if (o.std_ratio > 0.0) {
+    pcl::Indices kept;
+    pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+    sor.setInputCloud(pc);
+    sor.setMeanK(o.neighbours);
+    sor.setStddevMulThresh(o.std_ratio);
+    sor.filter(kept);
+    pass.assign(pts.size(), 0);
+    for (auto k : kept) pass[k] = 1;
+  }
   const double radius = o.radius.resolve(scale.spacing, scale.spacing, scale.diagonal);
   if (radius > 0.0) {
     pcl::RadiusOutlierRemoval<pcl::PointXYZ> ror;
@@ -137,7 +132,8 @@ void remove_outliers(PointCloud& cloud, const OutlierOptions& o, const CloudScal
 }
 
 void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
-  if (o.neighbours < 3) throw UsageError("normals: neighbours must be >= 3");
+  NormalOptions::schema().validate(o);
+  if (o.keep && cloud.has_normals()) return;
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   if (pts.size() < 3) throw InputError("normals: the cloud has fewer than 3 finite points");

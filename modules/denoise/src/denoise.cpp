@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scanmesh/errors.h"
+#include "scanmesh/estimate_parameters.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"
@@ -108,10 +109,35 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
 
   std::vector<double> face_sigma;
   if (options.smooth_sigma_s > 0.0) {
-    const std::vector<double> strength = feature_strength(geometry, neighbourhoods, c_a, 2);
+    const std::vector<double> strength = feature_strength(geometry, neighbourhoods, c_a, options.feature_prefilter_passes,
+                                                          options.feature_prefilter_sigma);
     face_sigma.resize(strength.size());
     for (std::size_t f = 0; f < strength.size(); ++f)
       face_sigma[f] = strength[f] > options.feature_threshold ? options.sigma_s : options.smooth_sigma_s;
+  }
+  std::vector<double> cap;
+  std::vector<std::uint8_t> fixed;
+  if (options.outlier_jump > 0.0) {
+    const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
+    std::vector<double> valid;
+    for (double j : jump)
+      if (j >= 0.0) valid.push_back(j);
+    if (!valid.empty()) {
+      std::nth_element(valid.begin(), valid.begin() + valid.size() / 2, valid.end());
+      const double limit = options.outlier_jump * valid[valid.size() / 2];
+      fixed.assign(jump.size(), 0);
+      for (std::size_t v = 0; v < jump.size(); ++v) fixed[v] = jump[v] >= 0.0 && jump[v] <= limit ? 1 : 0;
+    }
+  }
+  if (options.displacement_cap > 0.0) {
+    const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
+    cap.assign(jump.size(), -1.0);
+    for (std::size_t v = 0; v < jump.size(); ++v) {
+      if (jump[v] < 0.0) continue;
+      double m = jump[v];
+      for (const int* w = topology.vertex_vertices.begin(v); w != topology.vertex_vertices.end(v); ++w) m = std::max(m, jump[*w]);
+      cap[v] = options.displacement_cap * m;
+    }
   }
   std::vector<Vec3> filtered;
   double lambda = options.lambda;
@@ -135,6 +161,23 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     positions.swap(updated);
     if (boundary)
       smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window);
+    if (!fixed.empty())
+      for (std::size_t v = 0; v < positions.size(); ++v)
+        if (fixed[v]) positions[v] = mesh.positions[v];
+    if (!cap.empty()) {
+      const auto nv = static_cast<long>(positions.size());
+#pragma omp parallel for schedule(static)
+      for (long v = 0; v < nv; ++v) {
+        if (cap[v] < 0.0) continue;
+        Vec3 n = Vec3::Zero();
+        for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f) n += geometry.areas[*f] * filtered[*f];
+        const double len = n.norm();
+        if (!(len > 0.0)) continue;
+        n /= len;
+        const double along = (positions[v] - mesh.positions[v]).dot(n);
+        if (std::abs(along) > cap[v]) positions[v] -= (along - std::copysign(cap[v], along)) * n;
+      }
+    }
     report.seconds_vertex_update += seconds_since(t0);
     lambda *= options.decay;
     ++report.iterations;

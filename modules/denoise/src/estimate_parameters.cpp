@@ -49,8 +49,17 @@ double exact_plane_fraction(const Mesh& mesh, const Analysis& an) {
 }
 
 std::vector<double> noise_jumps(const Mesh& mesh, const Analysis& an) {
-  const Topology& topo = an.topo;
-  const std::vector<Vec3> normals = vertex_normals(topo, an.geometry);
+  std::vector<double> jump = vertex_jumps(mesh, an.topo, an.geometry);
+  std::vector<double> values;
+  for (double x : jump)
+    if (x >= 0.0) values.push_back(x);
+  return values;
+}
+
+}  // namespace
+
+std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry) {
+  const std::vector<Vec3> normals = vertex_normals(topo, geometry);
   const auto nv = static_cast<long>(mesh.num_vertices());
   // Signed height of each vertex over the plane of its one-ring (normal = its vertex normal). Curvature
   // makes these heights vary slowly over the surface, noise makes them jump from vertex to vertex, so
@@ -80,11 +89,10 @@ std::vector<double> noise_jumps(const Mesh& mesh, const Analysis& an) {
       }
     if (n >= 3) jump[i] = std::abs(height[i] - sum / n);
   }
-  std::vector<double> values;
-  for (double x : jump)
-    if (x >= 0.0) values.push_back(x);
-  return values;
+  return jump;
 }
+
+namespace {
 
 double estimate_noise_level(const Mesh& mesh, const Analysis& an) {
   if (!(an.edge > 0.0)) return 0.0;

@@ -79,13 +79,14 @@ void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbou
   }
 }
 
-std::vector<double> feature_strength(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c, int passes) {
-  // Pre-filter with a wide, nearly uniform similarity kernel (Tukey, sigma 2), so noise averages out while
-  // sharp edges stay as strong variations of the normal across a neighbourhood.
+std::vector<double> feature_strength(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c, int passes,
+                                     double prefilter_sigma) {
+  // Pre-filter the normals so that noise averages out while sharp edges stay as strong variations of the
+  // normal across a neighbourhood.
   FaceGeometry g = geometry;
   std::vector<Vec3> m;
   for (int p = 0; p < passes; ++p) {
-    filter_face_normals(g, neighbourhoods, sigma_c, 2.0, RobustEstimator::tukey, m);
+    filter_face_normals(g, neighbourhoods, sigma_c, prefilter_sigma, RobustEstimator::tukey, m);
     g.normals = m;
   }
   const auto nf = static_cast<long>(g.normals.size());

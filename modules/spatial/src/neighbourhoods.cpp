@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "flann_index.h"
+#include "scanmesh/geometry.h"
 #include "scanmesh/parallel.h"
 
 namespace scanmesh {
@@ -116,6 +117,21 @@ double mean_nearest_neighbour_distance(const std::vector<Vec3>& points) {
   double sum = 0.0;  // fixed order: independent of the thread count
   for (double d : nearest) sum += d;
   return sum / static_cast<double>(points.size());
+}
+
+}  // namespace scanmesh
+
+namespace scanmesh {
+
+CloudScale measure_scale(const PointCloud& cloud) {
+  std::vector<Vec3> pts;
+  pts.reserve(cloud.size());
+  for (const auto& p : cloud.points)
+    if (p.allFinite()) pts.push_back(p);
+  CloudScale s;
+  s.spacing = mean_nearest_neighbour_distance(pts);
+  s.diagonal = bbox_diagonal(pts);
+  return s;
 }
 
 }  // namespace scanmesh

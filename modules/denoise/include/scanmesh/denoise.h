@@ -59,6 +59,15 @@ struct DenoiseOptions {
   /// (max |m_i - m_j| of pre-filtered normals) use this wider sigma_s, the others `sigma_s`. 0 = off.
   double smooth_sigma_s = 0.0;
   double feature_threshold = 0.5;
+  /// The pre-filter behind feature_threshold: passes of the normal filter with this sigma_s.
+  double feature_prefilter_sigma = 2.0;
+  int feature_prefilter_passes = 2;
+  /// Each vertex moves along its normal by at most this multiple of its own noise jump (the largest in
+  /// its one-ring), so vertices the noise left alone stay. 0 = off.
+  double displacement_cap = 0.0;
+  /// Impulsive noise: only vertices whose noise jump exceeds this multiple of the median jump move (the
+  /// outliers); the others keep their positions. 0 = off (every vertex moves).
+  double outlier_jump = 0.0;
 };
 
 /// What a denoising run did (for reports).

@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "scanmesh/denoise.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/topology.h"
 #include "scanmesh/mesh.h"
 
 namespace scanmesh {
@@ -23,6 +25,8 @@ double estimate_noise_level(const Mesh& mesh);
 /// The statistic behind estimate_noise_level, per interior vertex (mesh units): how far the vertex's height
 /// over its one-ring plane differs from its neighbours' mean height.
 std::vector<double> noise_jumps(const Mesh& mesh);
+/// The same per vertex (-1 where undefined: boundary, fewer than three neighbours).
+std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
 
 /// Share of vertices whose faces all have the same normal (to 1e-4): large for CAD tessellations and
 /// already clean meshes, zero for anything carrying scanner noise.

@@ -21,8 +21,9 @@ void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbou
                          const std::vector<double>* face_sigma = nullptr);
 
 /// Per face, how sharply the surface bends within its neighbourhood: max |m_i - m_j| over Omega_i of the
-/// normals m after `passes` passes of a wide (sigma_s = 2) filter that averages noise away.
-std::vector<double> feature_strength(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c, int passes);
+/// normals m after `passes` passes of the normal filter with `prefilter_sigma`.
+std::vector<double> feature_strength(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c, int passes,
+                                     double prefilter_sigma);
 
 /// The mean distance c_a between centroids of edge-adjacent faces (mean edge length if no face has a
 /// neighbour; 0 for an empty mesh).

@@ -4,15 +4,28 @@
 #include <string>
 
 #include "scanmesh/mesh.h"
+#include "scanmesh/schema.h"
 
 namespace scanmesh {
 
 struct CleanupOptions {
-  bool remove_degenerate = true;  ///< faces with a repeated vertex or (numerically) zero area
-  bool remove_duplicates = true;  ///< faces over the same three vertices (either orientation)
-  bool fix_nonmanifold = true;    ///< edges with > 2 faces keep two; vertices joining separate fans are split
-  int min_component_faces = 10;   ///< connected pieces with fewer faces are removed (0 = keep all)
-  bool orient = true;             ///< consistent orientation; closed pieces outwards, open ones towards the sensor
+  bool remove_degenerate = true;
+  bool remove_duplicates = true;
+  bool fix_nonmanifold = true;
+  int min_component_faces = 10;
+  bool orient = true;
+  static const Schema<CleanupOptions>& schema() {
+    static const Schema<CleanupOptions> s =
+        Schema<CleanupOptions>()
+            .flag("remove_degenerate", &CleanupOptions::remove_degenerate, "Remove faces with a repeated vertex or zero area.")
+            .flag("remove_duplicates", &CleanupOptions::remove_duplicates, "Remove faces over the same three vertices.")
+            .flag("fix_nonmanifold", &CleanupOptions::fix_nonmanifold,
+                  "Keep two faces per edge and split vertices that join separate fans.")
+            .integer("min_component", &CleanupOptions::min_component_faces, closed(0, 1e9), "faces",
+                     "Remove connected pieces with fewer faces; 0 keeps all.")
+            .flag("orient", &CleanupOptions::orient, "Orient consistently: closed pieces outwards, open ones towards the sensor.");
+    return s;
+  }
 };
 
 /// What clean_mesh changed.

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scanmesh/mesh.h"
+#include "scanmesh/schema.h"
 
 namespace scanmesh {
 
@@ -21,11 +22,25 @@ enum class NoiseDirection {
 
 /// Options of the noise stage; also the schema of the `mesh.noise` pipeline stage.
 struct NoiseOptions {
-  double level = 0.3;  ///< sigma = level x mean edge length (>= 0)
+  double level = 0.3;
   NoiseKind kind = NoiseKind::gaussian;
   NoiseDirection direction = NoiseDirection::random;
-  std::uint64_t seed = 1;             ///< same seed, same mesh -> same noise, on every machine
-  double impulsive_fraction = 0.1;    ///< share of vertices hit by impulsive noise, in (0, 1]
+  std::uint64_t seed = 1;
+  double impulsive_fraction = 0.1;
+  static const Schema<NoiseOptions>& schema() {
+    static const Schema<NoiseOptions> s =
+        Schema<NoiseOptions>()
+            .number("level", &NoiseOptions::level, closed(0, 100), "x mean edge", "Noise standard deviation.")
+            .choice("kind", &NoiseOptions::kind,
+                    {{"gaussian", NoiseKind::gaussian}, {"uniform", NoiseKind::uniform}, {"impulsive", NoiseKind::impulsive}},
+                    "Distribution: gaussian; uniform with the same deviation; impulsive: a fraction of the vertices only.")
+            .choice("direction", &NoiseOptions::direction, {{"random", NoiseDirection::random}, {"normal", NoiseDirection::normal}},
+                    "Direction of each vertex's move: random, or along its normal.")
+            .seed("seed", &NoiseOptions::seed, "Same seed and mesh, same noise, on every machine.")
+            .number("impulsive_fraction", &NoiseOptions::impulsive_fraction, open_closed(0, 1), "share of vertices",
+                    "Impulsive noise: the share of vertices that move.");
+    return s;
+  }
 };
 
 NoiseKind parse_noise_kind(const std::string& name);

@@ -8,13 +8,23 @@
 
 #include "scanmesh/atomic_file.h"
 #include "scanmesh/mesh.h"
+#include "scanmesh/schema.h"
 
 namespace scanmesh {
 
 struct ReportOptions {
-  std::string reference;  ///< ground-truth mesh (same faces for MSAE and flips); empty = none
-  bool figures = true;    ///< PNG figures and the HTML page (the JSON sidecar is always written)
-  int image_size = 720;   ///< rendered views are image_size x image_size pixels
+  std::string reference;
+  bool figures = true;
+  int image_size = 720;
+  static const Schema<ReportOptions>& schema() {
+    static const Schema<ReportOptions> s =
+        Schema<ReportOptions>()
+            .text("reference", &ReportOptions::reference, "mesh file",
+                  "Ground truth to measure against (MSAE and flips need the same faces); empty = none.")
+            .flag("figures", &ReportOptions::figures, "PNG figures and the HTML page; the JSON sidecar is always written.")
+            .integer("image_size", &ReportOptions::image_size, closed(200, 4000), "pixels", "Rendered views are this wide and high.");
+    return s;
+  }
 };
 
 /// One pipeline stage as the sidecar records it.

@@ -7,18 +7,31 @@
 
 #include "scanmesh/mesh.h"
 #include "scanmesh/point_cloud.h"
+#include "scanmesh/schema.h"
 
 namespace scanmesh {
 
 struct VirtualScanOptions {
-  int views = 6;             ///< viewpoints spread evenly over a sphere around the mesh (Fibonacci lattice)
-  int width = 320;           ///< image columns per view
-  int height = 240;          ///< image rows per view
-  double fov_deg = 40.0;     ///< horizontal field of view; the object fills about two thirds of it
-  /// Depth noise standard deviation at the mean viewing distance, in mean edge lengths of the mesh; it
-  /// scales with (depth / mean depth)^2 like a Kinect's.
+  int views = 6;
+  int width = 320;
+  int height = 240;
+  double fov_deg = 40.0;
   double noise = 0.3;
   std::uint64_t seed = 1;
+  static const Schema<VirtualScanOptions>& schema() {
+    static const Schema<VirtualScanOptions> s =
+        Schema<VirtualScanOptions>()
+            .integer("views", &VirtualScanOptions::views, closed(1, 1000), "count",
+                     "Viewpoints spread evenly over a sphere around the mesh (Fibonacci lattice).")
+            .integer("width", &VirtualScanOptions::width, closed(2, 10000), "pixels", "Image columns per view.")
+            .integer("height", &VirtualScanOptions::height, closed(2, 10000), "pixels", "Image rows per view.")
+            .number("fov", &VirtualScanOptions::fov_deg, closed(1, 170), "degrees",
+                    "Horizontal field of view; the object fills about two thirds of it.")
+            .number("scan_noise", &VirtualScanOptions::noise, closed(0, 100), "x mean edge",
+                    "Depth noise deviation at the mean viewing distance, growing with depth squared like a Kinect's.")
+            .seed("scan_seed", &VirtualScanOptions::seed, "Same seed, same scan, whatever the thread count.");
+    return s;
+  }
 };
 
 /// One organized cloud per view (width x height, NaN where the ray misses), each with its sensor origin

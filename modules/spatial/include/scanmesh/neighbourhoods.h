@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "scanmesh/mesh.h"
+#include "scanmesh/point_cloud.h"
 #include "scanmesh/topology.h"
 
 namespace scanmesh {
@@ -23,5 +24,8 @@ std::vector<double> nearest_point_distances(const std::vector<Vec3>& points, con
 
 /// Mean distance from each point to its nearest other point (0 for fewer than two points).
 double mean_nearest_neighbour_distance(const std::vector<Vec3>& points);
+
+/// Spacing (mean nearest-neighbour distance) and bounding-box diagonal of a cloud's finite points.
+CloudScale measure_scale(const PointCloud& cloud);
 
 }  // namespace scanmesh

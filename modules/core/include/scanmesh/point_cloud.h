@@ -32,6 +32,13 @@ struct PointCloud {
   [[nodiscard]] std::size_t finite_count() const;
 };
 
+/// Scale of a cloud: mean nearest-neighbour spacing and bounding-box diagonal of its finite points
+/// (measure_scale in neighbourhoods.h); what lengths like "3*spacing" resolve against.
+struct CloudScale {
+  double spacing = 0.0;
+  double diagonal = 0.0;
+};
+
 /// Removes NaN/infinite points (and their normals/colours); the result is unorganized.
 void drop_non_finite(PointCloud& cloud);
 
