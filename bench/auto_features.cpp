@@ -11,7 +11,6 @@
 
 #include "corpus.h"
 #include "scanmesh/denoise.h"
-#include "scanmesh/estimate_parameters.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"

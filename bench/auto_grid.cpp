@@ -14,7 +14,7 @@
 
 #include "corpus.h"
 #include "scanmesh/denoise.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/noise_analysis.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/normal_filtering.h"
@@ -57,25 +57,14 @@ int main(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
   std::string only, skip;
   std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
-  std::vector<double> smooth = {0.0}, thresholds = {0.5}, caps = {0.0}, outliers = {0.0};
-  double mask_fraction = 0.0;  // > 0: self-supervised probe runs on a masked copy (M lines)
-  double prefilter_sigma = 2.0;
-  int prefilter_passes = 2;
+  std::vector<double> outliers = {0.0};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--skip") && i + 1 < argc) skip = argv[++i];
     else if (!std::strcmp(argv[i], "--sigmas") && i + 1 < argc) sigmas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--smooth") && i + 1 < argc) smooth = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--thresholds") && i + 1 < argc) thresholds = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--caps") && i + 1 < argc) caps = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--outliers") && i + 1 < argc) outliers = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--mask") && i + 1 < argc) mask_fraction = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--prefilter") && i + 2 < argc) {
-      prefilter_sigma = std::atof(argv[++i]);
-      prefilter_passes = std::atoi(argv[++i]);
-    }
     else data = argv[i];
   }
   const auto models = bench::corpus_models(data);
@@ -93,87 +82,46 @@ int main(int argc, char** argv) {
       compute_face_geometry(pair.clean.positions, pair.clean.faces, g);
       const std::vector<Vec3> clean_normals = g.normals;
       const Quality input = compare(pair.noisy.positions, pair.noisy.faces, clean_normals);
-      const AutoParameters a = estimate_parameters(pair.noisy);
       const Topology topo = build_topology(pair.noisy);
-      // Noise statistics (mesh units) and the share of faces whose pre-filtered neighbourhood bends by more
-      // than 0.3 / 0.5 / 0.7 / 1.0, for fitting rules offline.
-      std::vector<double> jumps = noise_jumps(pair.noisy);
-      std::sort(jumps.begin(), jumps.end());
-      auto quantile = [&](double q) { return jumps.empty() ? 0.0 : jumps[std::min(jumps.size() - 1, static_cast<std::size_t>(q * jumps.size()))]; };
-      double sum = 0.0, sum2 = 0.0, trimmed2 = 0.0;
-      for (std::size_t k = 0; k < jumps.size(); ++k) {
-        sum += jumps[k];
-        sum2 += jumps[k] * jumps[k];
-        if (k < jumps.size() * 98 / 100) trimmed2 += jumps[k] * jumps[k];
-      }
-      const double nj = static_cast<double>(std::max<std::size_t>(1, jumps.size()));
-      double share[4] = {0, 0, 0, 0};
-      {
-        FaceGeometry ng;
-        compute_face_geometry(pair.noisy.positions, pair.noisy.faces, ng);
-        const double c_a = mean_centroid_distance(pair.noisy, topo, ng);
-        const Adjacency nbh = face_neighbourhoods(topo, ng, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
-        const std::vector<double> phi = feature_strength(ng, nbh, c_a, 2, 2.0);
-        const double t[4] = {0.3, 0.5, 0.7, 1.0};
-        for (double x : phi)
-          for (int k = 0; k < 4; ++k) share[k] += x > t[k] ? 1.0 / static_cast<double>(phi.size()) : 0.0;
-      }
+      const NoiseAnalysis na = analyse_noise(pair.noisy);
+      const double share[4] = {0, 0, 0, 0};  // (columns kept for the analysis scripts)
       std::printf("P,%s,%s,%s,%zu,%.4f,%zu,%.5f,%.5f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.4f,%.4f,%.4f,%.4f\n", pair.model.c_str(),
-                  pair.variant.c_str(), pair.kind.c_str(), pair.noisy.num_faces(), input.msae, input.flips, a.noise_level,
-                  a.feature_fraction, a.exact_plane_fraction, mean_edge_length(pair.noisy, topo), quantile(0.5), sum / nj,
-                  std::sqrt(sum2 / nj), std::sqrt(trimmed2 / nj), quantile(0.9), share[0], share[1], share[2], share[3]);
+                  pair.variant.c_str(), pair.kind.c_str(), pair.noisy.num_faces(), input.msae, input.flips, na.level,
+                  na.isolated_outlier_share, na.exact_plane_fraction, na.mean_edge, na.median_jump, 0.0, na.rms_jump,
+                  na.trimmed_rms_jump, 0.0, share[0], share[1], share[2], share[3]);
+      // Flip proxies: faces turned by more than 90 degrees from the input's normals, raw and smoothed (four
+      // passes of a wide normal filter): what --auto can check without ground truth.
+      std::vector<Vec3> raw_normals, smooth_normals;
+      {
+        FaceGeometry pg;
+        compute_face_geometry(pair.noisy.positions, pair.noisy.faces, pg);
+        raw_normals = pg.normals;
+        const double c_a = mean_centroid_distance(pair.noisy, topo, pg);
+        const Adjacency nbh = face_neighbourhoods(topo, pg, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
+        std::vector<Vec3> fn;
+        for (int pass = 0; pass < 4; ++pass) {
+          filter_face_normals(pg, nbh, c_a, 2.0, RobustEstimator::tukey, fn);
+          pg.normals = fn;
+        }
+        smooth_normals = pg.normals;
+      }
+      std::size_t input_smooth_flips = 0;
+      for (std::size_t f = 0; f < raw_normals.size(); ++f) input_smooth_flips += raw_normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
       for (double r : radii)
         for (double s : sigmas)
           for (double l : lambdas)
-            for (double sm : smooth)
-              for (double th : (sm > 0.0 ? thresholds : std::vector<double>{0.0}))
-                for (double cp0 : caps)
-                  for (double ou : outliers) {
-            const double cp = ou > 0.0 ? -ou : cp0;  // the csv's last column: cap, or -threshold for outlier runs
-            if (sm > 0.0 && sm <= s) continue;
+            for (double ou : outliers) {
             Mesh m = pair.noisy;
-            // Masked probe: a sparse set of interior vertices (no two adjacent) is moved to the mean of its
-            // one-ring, so the denoiser never sees their noisy positions; how far the result lands from those
-            // positions (along the normal) estimates the error plus the noise, without ground truth.
-            std::vector<int> masked;
-            if (mask_fraction > 0.0) {
-              std::vector<std::uint8_t> blocked(m.num_vertices(), 0);
-              std::uint64_t h = 88172645463325252ull;
-              std::vector<int> order(m.num_vertices());
-              for (std::size_t v = 0; v < order.size(); ++v) order[v] = static_cast<int>(v);
-              for (std::size_t v = order.size(); v > 1; --v) {
-                h ^= h << 13, h ^= h >> 7, h ^= h << 17;
-                std::swap(order[v - 1], order[h % v]);
-              }
-              const std::size_t want = static_cast<std::size_t>(mask_fraction * m.num_vertices());
-              for (int v : order) {
-                if (masked.size() >= want) break;
-                if (blocked[v] || topo.boundary_vertex[v] || topo.vertex_vertices.size(v) < 3) continue;
-                masked.push_back(v);
-                blocked[v] = 1;
-                for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w) blocked[*w] = 1;
-              }
-              for (int v : masked) {
-                Vec3 c = Vec3::Zero();
-                for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w) c += pair.noisy.positions[*w];
-                m.positions[v] = c / topo.vertex_vertices.size(v);
-              }
-            }
             DenoiseOptions o;
             o.sigma_s = s;
             o.lambda = l;
             o.radius_factor = r;
-            o.smooth_sigma_s = sm;
-            o.feature_threshold = th;
-            o.feature_prefilter_sigma = prefilter_sigma;
-            o.feature_prefilter_passes = prefilter_passes;
-            o.displacement_cap = cp0;
             o.outlier_jump = ou;
             o.iterations = checkpoints.back();
             std::size_t next = 0;
             FaceGeometry cg;
             denoise(m, o, {}, [&](int it, const std::vector<Vec3>& pos) {
-              if (next >= checkpoints.size() || it != checkpoints[next]) return;
+              if (next >= checkpoints.size() || it != checkpoints[next]) return true;
               ++next;
               const Quality q = compare(pos, pair.noisy.faces, clean_normals);
               // Displacement from the noisy input, and its part along the current vertex normals.
@@ -188,15 +136,28 @@ int main(int argc, char** argv) {
                 n2 += std::pow(d.dot(vn[v]), 2);
                 ++count;
               }
-              if (!masked.empty()) {
-                double loss = 0.0;
-                for (int v : masked) loss += std::pow((pos[v] - pair.noisy.positions[v]).dot(vn[v]), 2);
-                std::printf("M,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%.8g,%.2f\n", pair.model.c_str(), pair.variant.c_str(), s, l, r, sm, th, it,
-                            q.msae, loss / static_cast<double>(masked.size()), cp);
-                return;
+              // Share of manifold edges whose dihedral angle exceeds 20 / 30 / 45 degrees in the current mesh.
+              double sharp[3] = {0, 0, 0};
+              std::size_t manifold = 0;
+              for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+                if (topo.edge_faces.size(e) != 2) continue;
+                ++manifold;
+                const double c = cg.normals[topo.edge_faces.begin(e)[0]].dot(cg.normals[topo.edge_faces.begin(e)[1]]);
+                sharp[0] += c < 0.9396926 ? 1 : 0;
+                sharp[1] += c < 0.8660254 ? 1 : 0;
+                sharp[2] += c < 0.7071068 ? 1 : 0;
               }
-              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f\n", pair.model.c_str(), pair.variant.c_str(), s, l, r,
-                          sm, th, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)), std::sqrt(d2 / std::max<std::size_t>(1, count)), cp);
+              for (double& x : sharp) x /= static_cast<double>(std::max<std::size_t>(1, manifold));
+              std::size_t flips_raw = 0, flips_smooth = 0;
+              for (std::size_t f = 0; f < cg.normals.size(); ++f) {
+                flips_raw += cg.normals[f].dot(raw_normals[f]) < 0.0 ? 1 : 0;
+                flips_smooth += cg.normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
+              }
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu\n", pair.model.c_str(),
+                          pair.variant.c_str(), s, l, r, 0.0, 0.0, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)),
+                          std::sqrt(d2 / std::max<std::size_t>(1, count)), -ou, sharp[0], sharp[1], sharp[2], flips_raw, flips_smooth,
+                          input_smooth_flips);
+              return true;
             });
           }
       std::fflush(stdout);

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "scanmesh/denoise.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/auto_denoise.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
@@ -93,12 +93,13 @@ int main(int argc, char** argv) {
     {
       Mesh m = noisy;
       const auto t0 = std::chrono::steady_clock::now();
-      const AutoParameters a = estimate_parameters(m);
-      denoise(m, a.options);
+      const AutoReport a = denoise_auto(m, {});
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       char label[64];
-      std::snprintf(label, sizeof label, "auto (n=%.2f,f=%.3f)", a.noise_level, a.feature_fraction);
-      print(name, label, a.options, evaluate(m, &clean), s);
+      std::snprintf(label, sizeof label, "auto (%s, n=%.2f)", a.mode.c_str(), a.noise_level);
+      DenoiseOptions shown = a.options;
+      shown.iterations = a.run.iterations;
+      print(name, label, shown, evaluate(m, &clean), s);
     }
     const auto peer = kPeers.find(name);
     if (peer != kPeers.end()) {

@@ -13,7 +13,7 @@
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/denoise.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/auto_denoise.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/triangulate.h"
@@ -73,8 +73,7 @@ int main(int argc, char** argv) {
     std::printf("| %-12s | %-22s | %7zu points | | | | %6.2f |\n", name.c_str(), "virtual scan (6 views)", scan.points.size(), t_scan);
     report(name.c_str(), "scanmesh mesh (gp3)", mesh, clean, scan, scale.spacing, t_mesh);
     const auto t2 = std::chrono::steady_clock::now();
-    const AutoParameters a = estimate_parameters(mesh);
-    denoise(mesh, a.options);
+    denoise_auto(mesh, {});
     report(name.c_str(), "+ denoise --auto", mesh, clean, scan, scale.spacing, t_mesh + since(t2));
     // The usual alternative on the same cloud and normals: screened Poisson (PCL), depth 9, trimmed at
     // 3 spacings from the points.

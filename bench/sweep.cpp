@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "scanmesh/denoise.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/noise_analysis.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/mesh_io.h"
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   for (const auto& name : models) {
     const Mesh clean = read_mesh((dir / name / "clean.obj").string());
     const Mesh noisy = read_mesh((dir / name / "noisy.obj").string());
-    const double est = estimate_noise_level(noisy);
+    const double est = analyse_noise(noisy).level;
     for (double s : sigmas)
       for (double l : lambdas)
         for (int it : iterations) {

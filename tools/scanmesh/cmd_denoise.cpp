@@ -5,7 +5,8 @@
 #include "cli_common.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/errors.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/auto_denoise.h"
+#include "scanmesh/noise_analysis.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
 
@@ -72,32 +73,32 @@ int run_denoise(const std::vector<std::string>& args) {
   Mesh mesh = read_mesh(in, &warnings);
   print_warnings(warnings, quiet);
 
-  if (vm["auto"].as<bool>()) {
-    const AutoParameters a = estimate_parameters(mesh, options);
-    const double given_radius = options.radius_factor;
-    options = a.options;
-    if (!vm["radius-factor"].defaulted()) options.radius_factor = given_radius;
-    if (!quiet && a.options.iterations == 0)
-      std::fprintf(stderr, "auto: %.0f%% of the vertices lie exactly in the plane of their faces: the mesh is already "
-                           "noise-free, leaving it as it is (give --iterations to force)\n", 100.0 * a.exact_plane_fraction);
-    else if (!quiet)
-      std::fprintf(stderr, "auto: noise %.3f x mean edge, %.1f%% feature faces -> sigma_s %.3g, lambda %.3g, iterations %d, radius factor %.3g\n",
-                   a.noise_level, 100.0 * a.feature_fraction, options.sigma_s, options.lambda, options.iterations, options.radius_factor);
-  }
-  else if (!quiet) {
-    const double plane = exact_plane_fraction(mesh);
-    if (plane >= 0.1)
-      std::fprintf(stderr, "warning: %.0f%% of the vertices of '%s' lie exactly in the plane of their faces: it looks "
-                           "noise-free (a CAD tessellation?); denoising may only disturb its triangles (--auto would "
-                           "leave it alone)\n", 100.0 * plane, in.c_str());
-  }
-  if (vm.count("sigma-s")) options.sigma_s = vm["sigma-s"].as<double>();
-  if (vm.count("lambda")) options.lambda = vm["lambda"].as<double>();
-  if (vm.count("iterations")) options.iterations = vm["iterations"].as<int>();
+  std::vector<std::string> given;
+  if (vm.count("sigma-s")) options.sigma_s = vm["sigma-s"].as<double>(), given.push_back("sigma_s");
+  if (vm.count("lambda")) options.lambda = vm["lambda"].as<double>(), given.push_back("lambda");
+  if (vm.count("iterations")) options.iterations = vm["iterations"].as<int>(), given.push_back("iterations");
+  if (!vm["radius-factor"].defaulted()) given.push_back("radius_factor");
   validate(options);
-
   Progress progress("denoise", quiet);
-  const DenoiseReport report = denoise(mesh, options, [&](int d, int t) { progress(d, t); });
+  DenoiseReport report;
+  if (vm["auto"].as<bool>()) {
+    const AutoReport a = denoise_auto(mesh, options, given, {}, [&](int d, int t) { progress(d, t); });
+    report = a.run;
+    options = a.options;
+    if (!quiet)
+      std::fprintf(stderr, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iterations (%s), radius factor %.3g; check: %s\n",
+                   a.noise_level, a.mode.c_str(), a.reason.c_str(), options.sigma_s, options.lambda, report.iterations,
+                   report.stop_reason.c_str(), options.radius_factor, a.check.c_str());
+  } else {
+    if (!quiet) {
+      const double plane = analyse_noise(mesh).exact_plane_fraction;
+      if (plane >= 0.1)
+        std::fprintf(stderr, "warning: %.0f%% of the vertices of '%s' lie exactly in the plane of their faces: it looks "
+                             "noise-free (a CAD tessellation?); denoising may only disturb its triangles (--auto would "
+                             "leave it alone)\n", 100.0 * plane, in.c_str());
+    }
+    report = denoise(mesh, options, [&](int d, int t) { progress(d, t); });
+  }
   WriteOptions w;
   w.binary = !vm["ascii"].as<bool>();
   write_mesh(mesh, out, w);

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "scanmesh/errors.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/noise_analysis.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"
@@ -46,21 +46,7 @@ std::string to_string(RobustEstimator e) {
 
 std::string to_string(NeighbourhoodKind k) { return k == NeighbourhoodKind::ball ? "ball" : "connected_ball"; }
 
-void validate(const DenoiseOptions& o) {
-  auto check = [](bool ok, const std::string& msg) {
-    if (!ok) throw UsageError(msg);
-  };
-  check(std::isfinite(o.sigma_s) && o.sigma_s > 0.0 && o.sigma_s <= 2.0,
-        "sigma_s must be in (0, 2] (it compares unit normals, |n_i - n_j| <= 2); got " + std::to_string(o.sigma_s));
-  check(std::isfinite(o.lambda) && o.lambda >= 0.0 && o.lambda <= 1.0,
-        "lambda must be in [0, 1]; got " + std::to_string(o.lambda));
-  check(o.iterations >= 0 && o.iterations <= 100000, "iterations must be in [0, 100000]; got " + std::to_string(o.iterations));
-  check(std::isfinite(o.decay) && o.decay >= 0.0 && o.decay <= 1.0, "decay must be in [0, 1]; got " + std::to_string(o.decay));
-  check(std::isfinite(o.radius_factor) && o.radius_factor >= 0.5 && o.radius_factor <= 10.0,
-        "radius_factor must be in [0.5, 10]; got " + std::to_string(o.radius_factor));
-  check(std::isfinite(o.boundary_window) && o.boundary_window >= 0.5 && o.boundary_window <= 10.0,
-        "boundary_window must be in [0.5, 10]; got " + std::to_string(o.boundary_window));
-}
+void validate(const DenoiseOptions& o) { DenoiseOptions::schema().validate(o); }
 
 DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
                       const IterationObserver& observer) {
@@ -107,15 +93,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
   report.seconds_neighbourhoods += seconds_since(t0);
 
-  std::vector<double> face_sigma;
-  if (options.smooth_sigma_s > 0.0) {
-    const std::vector<double> strength = feature_strength(geometry, neighbourhoods, c_a, options.feature_prefilter_passes,
-                                                          options.feature_prefilter_sigma);
-    face_sigma.resize(strength.size());
-    for (std::size_t f = 0; f < strength.size(); ++f)
-      face_sigma[f] = strength[f] > options.feature_threshold ? options.sigma_s : options.smooth_sigma_s;
-  }
-  std::vector<double> cap;
+  // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move.
   std::vector<std::uint8_t> fixed;
   if (options.outlier_jump > 0.0) {
     const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
@@ -129,20 +107,25 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
       for (std::size_t v = 0; v < jump.size(); ++v) fixed[v] = jump[v] >= 0.0 && jump[v] <= limit ? 1 : 0;
     }
   }
-  if (options.displacement_cap > 0.0) {
-    const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
-    cap.assign(jump.size(), -1.0);
-    for (std::size_t v = 0; v < jump.size(); ++v) {
-      if (jump[v] < 0.0) continue;
-      double m = jump[v];
-      for (const int* w = topology.vertex_vertices.begin(v); w != topology.vertex_vertices.end(v); ++w) m = std::max(m, jump[*w]);
-      cap[v] = options.displacement_cap * m;
+  // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.
+  const double target = options.target_displacement * mean_edge_length(mesh, topology);
+  auto normal_displacement = [&] {
+    const std::vector<Vec3> vn = vertex_normals(topology, geometry);
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      if (topology.vertex_faces.size(v) == 0) continue;
+      const double d = (positions[v] - mesh.positions[v]).dot(vn[v]);
+      sum += d * d;
+      ++n;
     }
-  }
+    return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+  };
+
   std::vector<Vec3> filtered;
   double lambda = options.lambda;
+  report.stop_reason = "iterations";
   for (int it = 0; it < options.iterations; ++it) {
-    if (it > 0) compute_face_geometry(positions, mesh.faces, geometry);
     if (options.recompute_neighbourhoods && it > 0) {
       t0 = std::chrono::steady_clock::now();
       neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
@@ -150,8 +133,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
       report.seconds_neighbourhoods += seconds_since(t0);
     }
     t0 = std::chrono::steady_clock::now();
-    filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered,
-                        face_sigma.empty() ? nullptr : &face_sigma);
+    filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
     if (boundary)
       filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.radius_factor);
     report.seconds_filtering += seconds_since(t0);
@@ -164,30 +146,26 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     if (!fixed.empty())
       for (std::size_t v = 0; v < positions.size(); ++v)
         if (fixed[v]) positions[v] = mesh.positions[v];
-    if (!cap.empty()) {
-      const auto nv = static_cast<long>(positions.size());
-#pragma omp parallel for schedule(static)
-      for (long v = 0; v < nv; ++v) {
-        if (cap[v] < 0.0) continue;
-        Vec3 n = Vec3::Zero();
-        for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f) n += geometry.areas[*f] * filtered[*f];
-        const double len = n.norm();
-        if (!(len > 0.0)) continue;
-        n /= len;
-        const double along = (positions[v] - mesh.positions[v]).dot(n);
-        if (std::abs(along) > cap[v]) positions[v] -= (along - std::copysign(cap[v], along)) * n;
-      }
-    }
+    compute_face_geometry(positions, mesh.faces, geometry);  // for the next iteration and the stop rule
     report.seconds_vertex_update += seconds_since(t0);
     lambda *= options.decay;
     ++report.iterations;
     if (progress) progress(it + 1, options.iterations);
+    if (target > 0.0 && (report.displacement = normal_displacement()) >= target) {
+      report.stop_reason = "target displacement";
+      break;
+    }
     if (observer) {
       unscaled.resize(positions.size());
       for (std::size_t v = 0; v < positions.size(); ++v) unscaled[v] = positions[v] / scale;
-      observer(it + 1, unscaled);
+      if (!observer(it + 1, unscaled)) {
+        report.stop_reason = "observer";
+        break;
+      }
     }
   }
+  if (target <= 0.0) report.displacement = normal_displacement();
+  report.displacement /= scale;
   for (std::size_t v = 0; v < positions.size(); ++v)
     if (!positions[v].allFinite())
       throw InputError("denoise: the result has non-finite coordinates (vertex " + std::to_string(v) +
@@ -195,19 +173,23 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   mesh.positions = std::move(positions);
 
   // Stored vertex normals describe the old surface; replace them with the new one's.
+  refresh_stored_normals(mesh);
+  return report;
+}
+
+void refresh_stored_normals(Mesh& mesh) {
   VertexProperty* nx = mesh.find_property("nx");
   VertexProperty* ny = mesh.find_property("ny");
   VertexProperty* nz = mesh.find_property("nz");
-  if (nx && ny && nz) {
-    compute_face_geometry(mesh.positions, mesh.faces, geometry);
-    const std::vector<Vec3> normals = vertex_normals(topology, geometry);
-    for (std::size_t v = 0; v < normals.size(); ++v) {
-      nx->values[v] = normals[v][0];
-      ny->values[v] = normals[v][1];
-      nz->values[v] = normals[v][2];
-    }
+  if (!(nx && ny && nz)) return;
+  FaceGeometry geometry;
+  compute_face_geometry(mesh.positions, mesh.faces, geometry);
+  const std::vector<Vec3> normals = vertex_normals(build_topology(mesh), geometry);
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    nx->values[v] = normals[v][0];
+    ny->values[v] = normals[v][1];
+    nz->values[v] = normals[v][2];
   }
-  return report;
 }
 
 }  // namespace scanmesh

@@ -15,7 +15,7 @@
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/cloud_io.h"
 #include "scanmesh/denoise.h"
-#include "scanmesh/estimate_parameters.h"
+#include "scanmesh/auto_denoise.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
 #include "scanmesh/report.h"
@@ -280,25 +280,30 @@ struct DenoiseStage : Stage {
     opt.sigma_s = sigma_s;
     opt.lambda = lambda;
     opt.iterations = iterations;
+    if (!d.before) d.before = m;
+    const auto* progress = &ctx.options->progress;
+    const ProgressCallback report_progress = [progress](int done, int total) {
+      if (*progress) (*progress)("mesh.denoise", done, total);
+    };
     if (auto_params) {
-      const AutoParameters a = estimate_parameters(m, opt);
-      if (!set_sigma) opt.sigma_s = a.options.sigma_s;
-      if (!set_lambda) opt.lambda = a.options.lambda;
-      if (!set_iterations) opt.iterations = a.options.iterations;
-      if (!set_radius) opt.radius_factor = a.options.radius_factor;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge, %.1f%% feature faces -> ", a.noise_level, 100.0 * a.feature_fraction);
+      std::vector<std::string> given;
+      if (set_sigma) given.push_back("sigma_s");
+      if (set_lambda) given.push_back("lambda");
+      if (set_iterations) given.push_back("iterations");
+      if (set_radius) given.push_back("radius_factor");
+      const AutoReport a = denoise_auto(m, opt, given, {}, report_progress);
+      char buf[512];
+      std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iterations (%s), radius factor %.3g; check %s",
+                    a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
+                    a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
       details = buf;
+      return;
     }
     char buf[128];
     std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, iterations %d, radius factor %.3g", opt.sigma_s, opt.lambda,
                   opt.iterations, opt.radius_factor);
-    details += buf;
-    if (!d.before) d.before = m;
-    const auto* progress = &ctx.options->progress;
-    denoise(m, opt, [progress](int done, int total) {
-      if (*progress) (*progress)("mesh.denoise", done, total);
-    });
+    details = buf;
+    denoise(m, opt, report_progress);
   }
 };
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scanmesh/mesh.h"
+#include "scanmesh/schema.h"
 
 namespace scanmesh {
 
@@ -26,48 +27,69 @@ enum class NeighbourhoodKind {
                    ///< authors' code): thin walls and nearby sheets do not mix
 };
 
-/// Options of the denoiser; also the schema of the `mesh.denoise` pipeline stage.
+/// Options of the denoiser; also the schema of the `mesh.denoise` pipeline stage (see schema() below for
+/// each field's unit, range and meaning).
 struct DenoiseOptions {
-  /// Similarity kernel width sigma_s on |n_i - n_j| (range 0.05 .. 2). Smaller keeps more features but
-  /// leaves more noise; larger smooths more and rounds sharp edges. CAD-like 0.3-0.6, organic 0.6-1.0.
   double sigma_s = 0.7;
-  /// Fidelity/isotropic weight lambda_I (range 0 .. 1). Evens out triangles and stops flips under strong
-  /// noise; too large shrinks and blurs. Multiplied by `decay` after every iteration.
   double lambda = 0.2;
-  /// Number of iterations p (>= 1). More removes more noise; too many over-smooth organic shapes.
   int iterations = 100;
-  /// lambda_I <- decay * lambda_I after every iteration (the paper: 0.6; the authors' code: 0.7).
+  bool automatic = false;
+  double target_displacement = 0.0;
   double decay = 0.6;
-  /// Neighbourhood radius r = radius_factor * c_a, where c_a is the mean distance between centroids of
-  /// edge-adjacent faces; the closeness kernel width is sigma_c = c_a (the paper: 2).
   double radius_factor = 2.0;
   RobustEstimator estimator = RobustEstimator::tukey;
   NeighbourhoodKind neighbourhood = NeighbourhoodKind::ball;
-  /// Recompute the neighbourhoods from the moved centroids every iteration (slower; rarely matters).
   bool recompute_neighbourhoods = false;
-  /// Keep open boundaries in place: boundary vertices are denoised as points of their boundary curve
-  /// (robust local quadratic fit along the curve, which keeps lines, circles and corners) instead of
-  /// being fitted to one-sided face neighbourhoods. Off = the authors' behaviour, where open boundaries
-  /// creep inwards.
   bool keep_boundary = true;
-  /// With keep_boundary: width of the boundary curve fit, in mean boundary edge lengths (0.5 .. 10).
   double boundary_window = 2.0;
-  /// Fidelity term R_i that does not round sharp edges and corners (beyond the paper): on a vertex
-  /// whose filtered normals span two directions it moves only along the edge, at three none.
   bool feature_aware_fidelity = false;
-  /// Two kernels (beyond the paper): faces whose neighbourhood bends by less than `feature_threshold`
-  /// (max |m_i - m_j| of pre-filtered normals) use this wider sigma_s, the others `sigma_s`. 0 = off.
-  double smooth_sigma_s = 0.0;
-  double feature_threshold = 0.5;
-  /// The pre-filter behind feature_threshold: passes of the normal filter with this sigma_s.
-  double feature_prefilter_sigma = 2.0;
-  int feature_prefilter_passes = 2;
-  /// Each vertex moves along its normal by at most this multiple of its own noise jump (the largest in
-  /// its one-ring), so vertices the noise left alone stay. 0 = off.
-  double displacement_cap = 0.0;
-  /// Impulsive noise: only vertices whose noise jump exceeds this multiple of the median jump move (the
-  /// outliers); the others keep their positions. 0 = off (every vertex moves).
   double outlier_jump = 0.0;
+
+  static const Schema<DenoiseOptions>& schema() {
+    using O = DenoiseOptions;
+    static const Schema<O> s =
+        Schema<O>()
+            .number("sigma_s", &O::sigma_s, open_closed(0, 2), "unitless",
+                    "Width of the robust similarity kernel on |n_i - n_j| of two unit face normals: smaller keeps more "
+                    "features and more noise, larger smooths more and rounds sharp edges (CAD 0.5-0.7, organic 1-2).")
+            .number("lambda", &O::lambda, closed(0, 1), "unitless",
+                    "Weight lambda_I of the isotropic fidelity term: evens out triangles and prevents flips under strong "
+                    "noise; too large shrinks and blurs. Multiplied by decay after every iteration.")
+            .integer("iterations", &O::iterations, closed(0, 100000), "count",
+                     "Iterations (at most, with target_displacement): more removes more noise; too many flatten detail.")
+            .flag("auto", &O::automatic,
+                  "Choose sigma_s, lambda, iterations, the radius and the stopping point from the mesh itself "
+                  "(noise level, sharp features, impulsive noise); values given explicitly still win.")
+            .number("target_displacement", &O::target_displacement, closed(0, 100), "x mean edge",
+                    "Stop once the vertices have moved this far from the input along their normals (RMS): the "
+                    "discrepancy principle, about the noise's size; 0 runs every iteration.")
+            .number("decay", &O::decay, closed(0, 1), "unitless", "lambda_I <- decay x lambda_I after every iteration (the paper: 0.6).")
+            .number("radius_factor", &O::radius_factor, closed(0.5, 10), "x c_a",
+                    "Neighbourhood radius in units of c_a, the mean distance between centroids of adjacent faces; "
+                    "the closeness kernel width is c_a.")
+            .choice("estimator", &O::estimator,
+                    {{"tukey", RobustEstimator::tukey}, {"gaussian", RobustEstimator::gaussian},
+                     {"huber", RobustEstimator::huber}, {"lorentzian", RobustEstimator::lorentzian}},
+                    "Robust similarity weight: tukey stops diffusion across features completely, the others never fully.")
+            .choice("neighbourhood", &O::neighbourhood,
+                    {{"ball", NeighbourhoodKind::ball}, {"connected_ball", NeighbourhoodKind::connected_ball}},
+                    "ball: every face within the radius; connected_ball: only faces reachable through adjacent faces "
+                    "(thin walls and close sheets do not mix).")
+            .flag("recompute_neighbourhoods", &O::recompute_neighbourhoods,
+                  "Rebuild the neighbourhoods every iteration (slower, rarely different).")
+            .flag("keep_boundary", &O::keep_boundary,
+                  "Denoise open boundaries as curves so they stay in place; false treats boundary vertices like "
+                  "interior ones, as the authors' code does (boundaries creep inwards).")
+            .number("boundary_window", &O::boundary_window, closed(0.5, 10), "x boundary edge",
+                    "Width of the boundary-curve fit: wider smooths open boundaries more (and starts to round them).")
+            .flag("feature_aware_fidelity", &O::feature_aware_fidelity,
+                  "Fidelity term that moves vertices only along sharp edges and not at corners (a clean CAD part stays "
+                  "exact; measured worse on noisy fandisk).")
+            .number("outlier_jump", &O::outlier_jump, closed(0, 1000), "x median jump",
+                    "Impulsive noise: only vertices whose height jump over their one-ring exceeds this multiple of the "
+                    "median move (the outliers), the rest stay; 0 moves every vertex.");
+    return s;
+  }
 };
 
 /// What a denoising run did (for reports).
@@ -80,13 +102,17 @@ struct DenoiseReport {
   double seconds_neighbourhoods = 0.0;
   double seconds_filtering = 0.0;
   double seconds_vertex_update = 0.0;
+  /// Why the run ended: "iterations", "target displacement", "observer" or "nothing to do".
+  std::string stop_reason = "nothing to do";
+  double displacement = 0.0;  ///< RMS normal displacement from the input at the end (mesh units)
 };
 
 /// Called after every iteration with (iterations done, total).
 using ProgressCallback = std::function<void(int, int)>;
-/// Called after every iteration with the iterations done and the current vertex positions (benches record
-/// quality curves with it; it must not keep the reference).
-using IterationObserver = std::function<void(int, const std::vector<Vec3>&)>;
+/// Called after every iteration with the iterations done and the current vertex positions; returning
+/// false stops the run there (--auto decides with it; benches record quality curves). It must not keep
+/// the reference.
+using IterationObserver = std::function<bool(int, const std::vector<Vec3>&)>;
 
 /// Parses/prints option values ("tukey", "connected_ball", ...). Parsing throws UsageError listing the choices.
 RobustEstimator parse_estimator(const std::string& name);
@@ -103,5 +129,8 @@ void validate(const DenoiseOptions& options);
 /// \throw UsageError for invalid options.
 DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress = {},
                       const IterationObserver& observer = {});
+
+/// Recomputes stored vertex normals (nx, ny, nz), if the mesh has them, from its current faces.
+void refresh_stored_normals(Mesh& mesh);
 
 }  // namespace scanmesh

@@ -1,0 +1,73 @@
+#pragma once
+// `--auto`: denoising that chooses its parameters and its stopping point from the mesh itself.
+//
+// 1. Noise: a vertex's height over its one-ring plane varies slowly with curvature but jumps with noise;
+//    the robust spread of those jumps estimates the noise (noise_analysis.h).
+// 2. Noise-free tessellations (vertices exactly in their faces' planes) are left alone.
+// 3. Impulsive noise (many isolated outliers, jumps above 6x the median with calm neighbours) is
+//    removed by moving only the outliers.
+// 4. Otherwise a feature-keeping run starts (narrow kernel). If after `probe_iterations` its surface is
+//    still full of soft creases (20-45 degrees; the features of machined parts are sharper), they are
+//    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel. Either run stops by the discrepancy principle, once the
+//    vertices have moved about as far as the noise displaced them.
+// 5. The result is checked (no more faces turned against the smoothed input than the input itself has,
+//    volume kept); if the check fails, the last iteration that passed is returned.
+// Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
+// tuning corpus (bench/auto_cv.cpp, README "Choosing parameters automatically").
+#include <string>
+#include <vector>
+
+#include "scanmesh/denoise.h"
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+/// The constants of --auto's decisions (see the header comment); defaults are the values fitted on the
+/// whole corpus.
+/// Which spread of the vertex height jumps (noise_analysis.h) the discrepancy targets multiply.
+enum class NoiseStatistic { median, rms, trimmed_rms };
+
+struct AutoRules {
+  NoiseStatistic noise_statistic = NoiseStatistic::rms;
+  double impulsive_share = 0.011;  ///< share of isolated outliers above which noise counts as impulsive
+  double outlier_jump = 4.0;       ///< impulsive mode: vertices whose jump exceeds this x the median move
+  int impulsive_iterations = 100;
+  double sharp_sigma = 0.7;   ///< feature-keeping kernel width
+  double sharp_lambda = 0.2;
+  double smooth_sigma = 2.0;  ///< wide kernel for smooth shapes
+  double smooth_lambda = 0.2;
+  int probe_iterations = 14;      ///< feature-keeping iterations before the smooth/sharp decision
+  double soft_crease_min_deg = 20.0;  ///< a soft crease: adjacent faces differ by more than this...
+  double soft_crease_max_deg = 45.0;  ///< ...and at most this (real features of parts are sharper)
+  double crease_share = 0.026;        ///< share of soft creases at the probe above which the mesh is smooth
+  double sharp_target = 0.8;      ///< discrepancy target, x the robust noise estimate, feature-keeping run
+  double smooth_target = 0.8;     ///< the same for the wide-kernel run
+  int max_iterations = 200;
+  double radius_factor = 3.0;
+  double max_volume_change = 0.02;  ///< closed meshes: relative volume change at which the run stops
+  /// The check allows max(input's turned faces, this share of the faces) turned against the smoothed input.
+  double turned_slack = 0.0005;
+};
+
+/// What --auto measured and decided (printed by the command line, in the sidecar and the report).
+struct AutoReport {
+  double noise_level = 0.0;    ///< robust noise estimate / mean edge length
+  double noise = 0.0;          ///< the same in mesh units (the discrepancy targets are multiples of it)
+  double exact_plane_fraction = 0.0;
+  double impulsive_share = 0.0;
+  double crease_share = -1.0;  ///< at the probe (-1 if no probe ran)
+  std::string mode;            ///< "untouched", "impulsive", "sharp" or "smooth"
+  std::string reason;          ///< one line saying why
+  DenoiseOptions options;      ///< what was run (explicit user values kept)
+  DenoiseReport run;           ///< iterations, stop reason, timings of the final run
+  int probe_iterations = 0;    ///< iterations spent on a probe that was discarded
+  std::string check;           ///< outcome of the result check
+};
+
+/// Denoises `mesh` in place with parameters chosen from the mesh. Fields of `given` named in
+/// `explicit_fields` (schema names, e.g. "sigma_s", "iterations") are kept as given; the others are
+/// chosen. Deterministic and independent of the thread count.
+AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vector<std::string>& explicit_fields = {},
+                        const AutoRules& rules = {}, const ProgressCallback& progress = {});
+
+}  // namespace scanmesh

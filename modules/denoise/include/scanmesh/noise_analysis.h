@@ -1,0 +1,37 @@
+#pragma once
+// What a mesh's noise looks like, measured from the mesh alone (for --auto and for warnings): a vertex's
+// height over the plane of its one-ring varies slowly with curvature but jumps from vertex to vertex with
+// noise, so the spread of those jumps measures the noise.
+#include <vector>
+
+#include "scanmesh/geometry.h"
+#include "scanmesh/mesh.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+
+struct NoiseAnalysis {
+  double mean_edge = 0.0;
+  double median_jump = 0.0;        ///< mesh units
+  double rms_jump = 0.0;           ///< mesh units; sensitive to outliers and sharp features
+  double trimmed_rms_jump = 0.0;   ///< RMS of the lower 98% of the jumps (mesh units)
+  /// Noise standard deviation relative to the mean edge length, from the median jump, calibrated so
+  /// Gaussian noise of level L (sigma = L x mean edge, random directions) reads about L.
+  double level = 0.0;
+  /// Share of interior vertices whose jump exceeds 6x the median while no neighbour's does: isolated
+  /// outliers, the signature of impulsive noise (Gaussian noise and sharp features leave almost none).
+  double isolated_outlier_share = 0.0;
+  /// Share of vertices whose faces all have the same normal (to 1e-4): large for CAD tessellations and
+  /// noise-free meshes, zero for anything carrying scanner noise.
+  double exact_plane_fraction = 0.0;
+};
+
+/// Measures `mesh` (whose topology and face geometry are given).
+NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
+NoiseAnalysis analyse_noise(const Mesh& mesh);
+
+/// Per vertex: |height over the one-ring plane - neighbours' mean height| (mesh units); -1 where undefined
+/// (boundary, fewer than three neighbours, no normal).
+std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
+
+}  // namespace scanmesh

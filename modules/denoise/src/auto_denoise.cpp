@@ -1,0 +1,210 @@
+#include "scanmesh/auto_denoise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "scanmesh/geometry.h"
+#include "scanmesh/noise_analysis.h"
+#include "scanmesh/normal_filtering.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+namespace {
+
+// Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg]: soft creases.
+// Real features of machined parts are sharper; noise a feature-keeping filter locked in is not.
+double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, const Topology& topo, double min_deg, double max_deg) {
+  FaceGeometry g;
+  compute_face_geometry(positions, mesh.faces, g);
+  const double lo = std::cos(min_deg * 3.14159265358979323846 / 180.0), hi = std::cos(max_deg * 3.14159265358979323846 / 180.0);
+  std::size_t soft = 0, manifold = 0;
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    if (topo.edge_faces.size(e) != 2) continue;
+    ++manifold;
+    const double c = g.normals[topo.edge_faces.begin(e)[0]].dot(g.normals[topo.edge_faces.begin(e)[1]]);
+    soft += c < lo && c >= hi ? 1 : 0;
+  }
+  return manifold > 0 ? static_cast<double>(soft) / static_cast<double>(manifold) : 0.0;
+}
+
+// The input's normals after four passes of a wide normal filter: the reference the result check turns
+// faces against (noise flips a face relative to its own neighbourhood, denoising must not).
+std::vector<Vec3> smoothed_normals(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry) {
+  FaceGeometry g = geometry;
+  const double c_a = mean_centroid_distance(mesh, topo, g);
+  if (!(c_a > 0.0)) return g.normals;
+  const Adjacency nbh = face_neighbourhoods(topo, g, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
+  std::vector<Vec3> filtered;
+  for (int pass = 0; pass < 4; ++pass) {
+    filter_face_normals(g, nbh, c_a, 2.0, RobustEstimator::tukey, filtered);
+    g.normals = filtered;
+  }
+  return g.normals;
+}
+
+std::size_t turned_faces(const std::vector<Vec3>& positions, const std::vector<Face>& faces, const std::vector<Vec3>& reference) {
+  std::size_t n = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const Vec3 normal = triangle_normal(positions[faces[f][0]], positions[faces[f][1]], positions[faces[f][2]]);
+    n += normal.dot(reference[f]) < 0.0 ? 1 : 0;
+  }
+  return n;
+}
+
+double enclosed_volume(const std::vector<Vec3>& p, const std::vector<Face>& faces) {
+  double v = 0.0;
+  for (const Face& f : faces) v += p[f[0]].dot(p[f[1]].cross(p[f[2]]));
+  return v / 6.0;
+}
+
+}  // namespace
+
+AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vector<std::string>& explicit_fields,
+                        const AutoRules& rules, const ProgressCallback& progress) {
+  AutoReport r;
+  auto is_given = [&](const char* name) { return std::find(explicit_fields.begin(), explicit_fields.end(), name) != explicit_fields.end(); };
+  DenoiseOptions o = given;
+  o.automatic = true;
+  if (!is_given("radius_factor")) o.radius_factor = rules.radius_factor;
+  r.options = o;
+  validate(o);
+  if (mesh.faces.empty()) {
+    r.mode = "untouched";
+    r.reason = "no faces";
+    return r;
+  }
+  const Topology topo = build_topology(mesh);
+  FaceGeometry geometry;
+  compute_face_geometry(mesh.positions, mesh.faces, geometry);
+  const NoiseAnalysis na = analyse_noise(mesh, topo, geometry);
+  r.noise_level = na.level;
+  r.noise = rules.noise_statistic == NoiseStatistic::median ? na.median_jump
+            : rules.noise_statistic == NoiseStatistic::rms  ? na.rms_jump
+                                                            : na.trimmed_rms_jump;
+  r.exact_plane_fraction = na.exact_plane_fraction;
+  r.impulsive_share = na.isolated_outlier_share;
+  const double edge = na.mean_edge > 0.0 ? na.mean_edge : 1.0;
+  char line[256];
+
+  if (na.exact_plane_fraction >= 0.1 && !is_given("iterations")) {
+    // Scanner noise never leaves vertices exactly in their neighbours' plane; a CAD tessellation or an
+    // already clean mesh does, and its (often sliver) triangles would only be disturbed.
+    r.mode = "untouched";
+    std::snprintf(line, sizeof line, "%.0f%% of the vertices lie exactly in the plane of their faces: noise-free, left as it is",
+                  100.0 * na.exact_plane_fraction);
+    r.reason = line;
+    r.options.iterations = 0;
+    r.check = "not needed";
+    return r;
+  }
+
+  // What the result check compares against.
+  const std::vector<Vec3> reference = smoothed_normals(mesh, topo, geometry);
+  const std::size_t input_turned = turned_faces(mesh.positions, mesh.faces, reference);
+  const bool closed = topo.num_boundary_edges() == 0 && topo.num_nonmanifold_edges() == 0;
+  const double input_volume = closed ? enclosed_volume(mesh.positions, mesh.faces) : 0.0;
+  const int cap = is_given("iterations") ? o.iterations : rules.max_iterations;
+
+  // Runs `opt` on `m`, with the result check after every iteration: a step that turns more faces
+  // against the smoothed input than the input has, or changes a closed mesh's volume by more than the
+  // limit, is undone and ends the run. `probe` (if set) may end it too.
+  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const std::function<bool(int, const std::vector<Vec3>&)>& probe) {
+    std::vector<Vec3> accepted = m.positions;
+    std::string verdict = "passed";
+    DenoiseReport rep = denoise(m, opt, progress, [&](int it, const std::vector<Vec3>& pos) {
+      const std::size_t turned = turned_faces(pos, m.faces, reference);
+      if (static_cast<double>(turned) > std::max(static_cast<double>(input_turned), rules.turned_slack * static_cast<double>(m.faces.size()))) {
+        std::snprintf(line, sizeof line, "stopped after %d iterations: %zu faces turned against the smoothed input (input: %zu)",
+                      it - 1, turned, input_turned);
+        verdict = line;
+        return false;
+      }
+      if (closed && std::abs(input_volume) > 0.0) {
+        const double change = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume);
+        if (change > rules.max_volume_change) {
+          std::snprintf(line, sizeof line, "stopped after %d iterations: the volume would change by %.1f%%", it - 1, 100.0 * change);
+          verdict = line;
+          return false;
+        }
+      }
+      accepted = pos;
+      return !probe || probe(it, pos);
+    });
+    if (verdict != "passed") {
+      m.positions = accepted;  // the last iteration that passed
+      refresh_stored_normals(m);
+      rep.stop_reason = "result check";
+    }
+    return std::make_pair(rep, verdict);
+  };
+
+  if (na.isolated_outlier_share > rules.impulsive_share) {
+    // Impulsive noise: a few vertices far off, the rest exact. Moving everyone would smooth away detail
+    // the noise never touched; only the outliers move, towards the planes of their filtered normals.
+    r.mode = "impulsive";
+    if (!is_given("sigma_s")) o.sigma_s = rules.sharp_sigma;
+    if (!is_given("lambda")) o.lambda = rules.sharp_lambda;
+    if (!is_given("outlier_jump")) o.outlier_jump = rules.outlier_jump;
+    if (!is_given("iterations")) o.iterations = rules.impulsive_iterations;
+    std::snprintf(line, sizeof line, "impulsive noise: %.1f%% of the vertices are isolated outliers; only those move",
+                  100.0 * na.isolated_outlier_share);
+    r.reason = line;
+    auto [rep, verdict] = checked_run(mesh, o, {});
+    r.run = rep;
+    r.check = verdict;
+    r.options = o;
+    return r;
+  }
+
+  // Feature-keeping run first; its state after the probe iterations tells whether the creases it keeps
+  // are real (CAD parts, buildings) or noise it locked in (organic shapes).
+  DenoiseOptions sharp = o, smooth = o;
+  if (!is_given("sigma_s")) sharp.sigma_s = rules.sharp_sigma, smooth.sigma_s = rules.smooth_sigma;
+  if (!is_given("lambda")) sharp.lambda = rules.sharp_lambda, smooth.lambda = rules.smooth_lambda;
+  sharp.iterations = smooth.iterations = cap;
+  if (!is_given("target_displacement") && !is_given("iterations")) {
+    sharp.target_displacement = rules.sharp_target * r.noise / edge;
+    smooth.target_displacement = rules.smooth_target * r.noise / edge;
+  }
+  const bool decide = !is_given("sigma_s");
+  Mesh trial = mesh;
+  double creases = -1.0;
+  auto probe = [&](int it, const std::vector<Vec3>& pos) {
+    if (!decide || it != rules.probe_iterations) return true;
+    creases = soft_crease_share(pos, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+    return creases <= rules.crease_share;  // false: smooth shape, this run ends here
+  };
+  auto [rep, verdict] = checked_run(trial, sharp, probe);
+  if (decide && creases < 0.0)  // ended before the probe
+    creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+  r.crease_share = creases;
+  if (decide && creases > rules.crease_share) {
+    r.mode = "smooth";
+    std::snprintf(line, sizeof line,
+                  "smooth shape: after %d feature-keeping iterations %.1f%% of the edges are still soft creases (%.0f-%.0f deg; "
+                  "limit %.1f%%): noise the narrow kernel locked in",
+                  rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * rules.crease_share);
+    r.reason = line;
+    r.probe_iterations = rep.iterations;
+    auto [rep2, verdict2] = checked_run(mesh, smooth, {});
+    r.run = rep2;
+    r.check = verdict2;
+    r.options = smooth;
+  } else {
+    r.mode = "sharp";
+    if (decide)
+      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases",
+                    std::min(rep.iterations, rules.probe_iterations), 100.0 * creases);
+    else
+      std::snprintf(line, sizeof line, "sigma_s given: one run");
+    r.reason = line;
+    mesh = std::move(trial);
+    r.run = rep;
+    r.check = verdict;
+    r.options = sharp;
+  }
+  return r;
+}
+
+}  // namespace scanmesh
