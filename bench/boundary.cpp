@@ -8,6 +8,7 @@
 #include <string>
 
 #include "scanmesh/add_noise.h"
+#include "scanmesh/auto_denoise.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
@@ -29,11 +30,13 @@ int main(int argc, char** argv) {
   std::string path = "../shared/data/meshes/hemisphere-open.off";
   DenoiseOptions o;
   NoiseOptions n;
+  bool automatic = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--free")) o.keep_boundary = false;
     else if (!std::strcmp(argv[i], "--level") && i + 1 < argc) n.level = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--feature-aware")) o.feature_aware_fidelity = true;
     else if (!std::strcmp(argv[i], "--window") && i + 1 < argc) o.boundary_window = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--auto")) automatic = true;
     else path = argv[i];
   }
   if (!std::filesystem::exists(path)) {
@@ -44,7 +47,12 @@ int main(int argc, char** argv) {
   Mesh noisy = clean;
   add_noise(noisy, n);
   Mesh out = noisy;
-  denoise(out, o);
+  if (automatic) {
+    const AutoReport a = denoise_auto(out, o, {"keep_boundary", "boundary_window", "feature_aware_fidelity"});
+    std::printf("auto: %s, %d iterations (%s)\n", a.mode.c_str(), a.run.iterations, a.run.stop_reason.c_str());
+  } else {
+    denoise(out, o);
+  }
   const Topology t = build_topology(clean);
   for (const auto* m : {&noisy, &out}) {
     const MeshMetrics r = evaluate(*m, &clean);

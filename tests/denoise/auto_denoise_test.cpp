@@ -56,13 +56,11 @@ TEST(AutoDenoise, KeepsTheEdgesOfANoisyCube) {
   EXPECT_EQ(r.flipped_faces, 0u);
 }
 
-TEST(AutoDenoise, SmoothsANoisySphereWithAWideKernel) {
+TEST(AutoDenoise, DenoisesASphereWithoutShrinkingIt) {
   const Mesh clean = test::make_sphere(4);
   Mesh m = noisy(clean, 0.3);
   const double before = evaluate(m, &clean).msae_deg;
-  const AutoReport a = denoise_auto(m, {});
-  EXPECT_EQ(a.mode, "smooth") << a.reason;
-  EXPECT_EQ(a.run.stop_reason, "target displacement");
+  denoise_auto(m, {});
   const MeshMetrics r = evaluate(m, &clean);
   EXPECT_LT(r.msae_deg, 0.3 * before);
   EXPECT_LT(std::abs(*r.volume_change), 0.02);

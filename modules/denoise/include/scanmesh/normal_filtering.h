@@ -3,6 +3,7 @@
 // similarity weight (Yadav et al. 2019, eq. 1-2).
 #include <vector>
 
+#include "scanmesh/boundary_curves.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/topology.h"
@@ -20,11 +21,6 @@ void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbou
                          double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
                          const std::vector<double>* face_sigma = nullptr);
 
-/// Per face, how sharply the surface bends within its neighbourhood: max |m_i - m_j| over Omega_i of the
-/// normals m after `passes` passes of the normal filter with `prefilter_sigma`.
-std::vector<double> feature_strength(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c, int passes,
-                                     double prefilter_sigma);
-
 /// The mean distance c_a between centroids of edge-adjacent faces (mean edge length if no face has a
 /// neighbour; 0 for an empty mesh).
 double mean_centroid_distance(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
@@ -39,5 +35,12 @@ int max_neighbourhood_size(double radius_factor);
 /// `max_size` faces each, the nearest (`capped` counts the faces that had more).
 Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,
                               NeighbourhoodKind kind, int max_size, std::size_t* capped = nullptr);
+
+/// Filters the in-surface outward normals m_e = normalize(edge x n~_face) of the boundary edges along
+/// each loop with the same robust bilateral weights as stage 1 (closeness on midpoint distance with
+/// sigma = mean boundary edge length, up to `radius_factor` of it).
+void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
+                             const std::vector<Vec3>& filtered_face_normals, double sigma_s,
+                             RobustEstimator estimator, double radius_factor);
 
 }  // namespace scanmesh

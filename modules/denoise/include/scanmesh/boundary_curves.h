@@ -1,0 +1,49 @@
+#pragma once
+// Open boundaries kept in place (beyond the paper): each boundary loop is denoised as a curve, by a local
+// quadratic fit along its arc length that reproduces lines and circles and never reaches across a corner,
+// instead of fitting boundary vertices to the faces on one side of them (which makes boundaries flare
+// out and creep inwards). Loops too ragged to be curves (a depth camera's pixel staircase) are treated
+// like the interior, as in the paper.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "scanmesh/mesh.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+
+/// Boundary curves in the form the vertex update needs: loop edges in order, and per boundary vertex
+/// its two neighbours along the boundary (or -1).
+struct BoundaryCurves {
+  struct Edge {
+    int a, b;  ///< a -> b follows the orientation of `face`
+    int face;
+  };
+  std::vector<Edge> edges;
+  Adjacency loop_edges;                   ///< edge indices of each loop, in order
+  std::vector<std::uint8_t> loop_closed;  ///< per loop
+  std::vector<int> prev, next;            ///< per vertex: boundary neighbours (-1 if none/irregular)
+  std::vector<std::array<int, 2>> vertex_edges;  ///< per vertex: incident loop edges (-1 if none)
+  std::vector<std::uint8_t> corner;  ///< per vertex: 1 where the input boundary turns by > 50 deg, or is irregular
+  /// Per vertex: 1 on loops so ragged (mean turn between consecutive edges > 70 deg, e.g. the pixel
+  /// staircase of a depth-camera scan) that no curve describes them; such vertices are treated like
+  /// interior ones, as in the paper.
+  std::vector<std::uint8_t> ragged;
+  std::vector<Vec3> normals;  ///< per edge: filtered in-surface outward normal (filter_boundary_normals)
+};
+
+/// Finds the loops, their corners (turn above 50 degrees over three-edge chords; loops under 8 vertices
+/// are polygons, all corners) and ragged loops (mean turn above 70 degrees).
+BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology);
+
+/// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
+/// width in mean boundary edge lengths) that reproduces lines and circles, so the boundary does not shrink,
+/// and does not smooth across corners (which stay for update_vertices). A move that would turn one of
+/// the vertex's triangles by more than 45 degrees or make its shape (circumradius / shortest edge) worse
+/// than 1.5 is halved, up to three times, then dropped: straightening a jagged scan boundary must not
+/// flatten the triangles behind it.
+void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
+                            const BoundaryCurves& curves, double window);
+
+}  // namespace scanmesh
