@@ -87,18 +87,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   const double edge = na.mean_edge > 0.0 ? na.mean_edge : 1.0;
   char line[256];
 
-  if (na.exact_plane_fraction >= 0.1 && !is_given("iterations")) {
-    // Scanner noise never leaves vertices exactly in their neighbours' plane; a CAD tessellation or an
-    // already clean mesh does, and its (often sliver) triangles would only be disturbed.
-    r.mode = "untouched";
-    std::snprintf(line, sizeof line, "%.0f%% of the vertices lie exactly in the plane of their faces: noise-free, left as it is",
-                  100.0 * na.exact_plane_fraction);
-    r.reason = line;
-    r.options.iterations = 0;
-    r.check = "not needed";
-    return r;
-  }
-
   // What the result check compares against.
   const std::vector<Vec3> reference = smoothed_normals(mesh, topo, geometry);
   const std::size_t input_turned = turned_faces(mesh.positions, mesh.faces, reference);
@@ -143,8 +131,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     // Impulsive noise: a few vertices far off, the rest exact. Moving everyone would smooth away detail
     // the noise never touched; only the outliers move, towards the planes of their filtered normals.
     r.mode = "impulsive";
-    if (!is_given("sigma_s")) o.sigma_s = rules.sharp_sigma;
-    if (!is_given("lambda")) o.lambda = rules.sharp_lambda;
+    if (!is_given("sigma_s")) o.sigma_s = rules.impulsive_sigma;
+    if (!is_given("lambda")) o.lambda = rules.impulsive_lambda;
     if (!is_given("outlier_jump")) o.outlier_jump = rules.outlier_jump;
     if (!is_given("iterations")) o.iterations = rules.impulsive_iterations;
     std::snprintf(line, sizeof line, "impulsive noise: %.1f%% of the vertices are isolated outliers; only those move",
@@ -154,6 +142,18 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.run = rep;
     r.check = verdict;
     r.options = o;
+    return r;
+  }
+
+  if (na.exact_plane_fraction >= 0.1 && !is_given("iterations")) {
+    // Scanner noise never leaves vertices exactly in their neighbours' plane; a CAD tessellation or an
+    // already clean mesh does, and its (often sliver) triangles would only be disturbed.
+    r.mode = "untouched";
+    std::snprintf(line, sizeof line, "%.0f%% of the vertices lie exactly in the plane of their faces: noise-free, left as it is",
+                  100.0 * na.exact_plane_fraction);
+    r.reason = line;
+    r.options.iterations = 0;
+    r.check = "not needed";
     return r;
   }
 
@@ -170,21 +170,22 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   const bool decide = !is_given("sigma_s");
   Mesh trial = mesh;
   double creases = -1.0;
+  const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
   auto probe = [&](int it, const std::vector<Vec3>& pos) {
     if (!decide || it != rules.probe_iterations) return true;
     creases = soft_crease_share(pos, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
-    return creases <= rules.crease_share;  // false: smooth shape, this run ends here
+    return creases <= crease_limit;  // false: smooth shape, this run ends here
   };
   auto [rep, verdict] = checked_run(trial, sharp, probe);
   if (decide && creases < 0.0)  // ended before the probe
     creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
   r.crease_share = creases;
-  if (decide && creases > rules.crease_share) {
+  if (decide && creases > crease_limit) {
     r.mode = "smooth";
     std::snprintf(line, sizeof line,
                   "smooth shape: after %d feature-keeping iterations %.1f%% of the edges are still soft creases (%.0f-%.0f deg; "
                   "limit %.1f%%): noise the narrow kernel locked in",
-                  rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * rules.crease_share);
+                  rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
     r.reason = line;
     r.probe_iterations = rep.iterations;
     auto [rep2, verdict2] = checked_run(mesh, smooth, {});

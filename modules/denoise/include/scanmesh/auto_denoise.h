@@ -28,10 +28,12 @@ namespace scanmesh {
 enum class NoiseStatistic { median, rms, trimmed_rms };
 
 struct AutoRules {
-  NoiseStatistic noise_statistic = NoiseStatistic::rms;
+  NoiseStatistic noise_statistic = NoiseStatistic::trimmed_rms;
   double impulsive_share = 0.011;  ///< share of isolated outliers above which noise counts as impulsive
   double outlier_jump = 4.0;       ///< impulsive mode: vertices whose jump exceeds this x the median move
   int impulsive_iterations = 100;
+  double impulsive_sigma = 0.7;  ///< kernel width of the impulsive mode
+  double impulsive_lambda = 0.2;
   double sharp_sigma = 0.7;   ///< feature-keeping kernel width
   double sharp_lambda = 0.2;
   double smooth_sigma = 2.0;  ///< wide kernel for smooth shapes
@@ -39,16 +41,17 @@ struct AutoRules {
   int probe_iterations = 14;      ///< feature-keeping iterations before the smooth/sharp decision
   double soft_crease_min_deg = 20.0;  ///< a soft crease: adjacent faces differ by more than this...
   double soft_crease_max_deg = 45.0;  ///< ...and at most this (real features of parts are sharper)
-  double crease_share = 0.026;        ///< share of soft creases at the probe above which the mesh is smooth
+  double crease_share = 0.015;        ///< share of soft creases at the probe above which the mesh is smooth...
+  double crease_share_per_level = 0.05;  ///< ...plus this times the noise level (strong noise leaves more)
   double sharp_target = 0.8;      ///< discrepancy target, x the robust noise estimate, feature-keeping run
-  double smooth_target = 0.8;     ///< the same for the wide-kernel run
+  double smooth_target = 0.6;     ///< the same for the wide-kernel run
   int max_iterations = 200;
   double radius_factor = 3.0;
   /// Closed meshes: relative volume change at which the run stops. Off: rounding a noisy part's edges
   /// changes its volume by a few percent on the way to sharp edges again (measured on cubes).
   double max_volume_change = 1e9;
   /// The check allows max(input's turned faces, this share of the faces) turned against the smoothed input.
-  double turned_slack = 0.0005;
+  double turned_slack = 0.002;
 };
 
 /// What --auto measured and decided (printed by the command line, in the sidecar and the report).
