@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -164,13 +165,27 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   const auto* smooth = get(r.smooth_sigma, r.smooth_lambda, 0.0);
   if (!sharp || !smooth) return {-1, 0, "missing", 0};
   double creases = -1.0;
-  const Checkpoint* e = walk(*sharp, p, r, r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0, r.max_iterations, [&](const Checkpoint& c) {
-    if (c.it != r.probe_iterations) return true;
-    creases = c.s20 - c.s45;
-    return creases <= limit;
-  }, stopped);
-  if (creases < 0.0 && e) creases = e->s20 - e->s45;
-  if (creases > limit) {
+  bool clear = false, decided_smooth = false;
+  auto decide = [&](const Checkpoint& c) {
+    if (c.it == r.probe_iterations) {
+      creases = c.s20 - c.s45;
+      if (creases <= limit) {
+        clear = r.clear_sharp_share > 0.0 && creases < r.clear_sharp_share;
+        return true;
+      }
+      decided_smooth = true;
+      return false;
+    }
+    return true;
+  };
+  const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
+  const Checkpoint* e = walk(*sharp, p, r, target, r.max_iterations, decide, stopped);
+  if (creases < 0.0 && e) {  // the run ended before the first probe
+    creases = e->s20 - e->s45;
+    decided_smooth = creases > limit;
+  }
+  if (!decided_smooth && clear && target > 0.0) e = walk(*sharp, p, r, 0.0, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
+  if (decided_smooth) {
     const Checkpoint* s = walk(*smooth, p, r, r.smooth_target * noise, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
     return s ? Outcome{s->msae, s->flips, "smooth", s->it} : Outcome{p.noisy_msae, p.noisy_flips, "smooth", 0};
   }
@@ -179,17 +194,18 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 
 std::vector<Candidate> candidates() {
   std::vector<Candidate> out;
-  for (double imp : {0.008, 0.011, 0.014})
+  for (double imp : {0.011})
     for (double oj : {4.0, 6.0})
       for (int ni : {20, 50, 100})
         for (int sharp = 0; sharp < 1; ++sharp)
           for (int probe : {7, 10, 14, 20})
-            for (double crease : {0.01, 0.015, 0.02, 0.026, 0.035, 0.045, 0.06})
-              for (double slope : {0.0, 0.05, 0.1, 0.15})
-              for (int stat : {1, 2})
-                for (double ts : {0.8, 1.0, 1.2, 1.5, 2.0, 3.0, 0.0})
-                  for (double to : {0.4, 0.5, 0.6, 0.8, 1.0})
-                    for (double slack : {1.0, 0.0005, 0.002}) {
+            for (double crease : {0.01, 0.015, 0.02, 0.026, 0.035})
+              for (double slope : {0.0, 0.05, 0.1})
+                for (double clear : {0.0, 0.004, 0.008, 0.012})
+              for (int stat : {2})
+                for (double ts : {0.8, 1.0, 1.5, 0.0})
+                  for (double to : {0.5, 0.6, 0.8})
+                    for (double slack : {1.0, 0.002}) {
                       Candidate c;
                       AutoRules& r = c.rules;
                       r.impulsive_share = imp;
@@ -200,6 +216,7 @@ std::vector<Candidate> candidates() {
                       r.probe_iterations = probe;
                       r.crease_share = crease;
                       r.crease_share_per_level = slope;
+                      r.clear_sharp_share = clear;
                       r.noise_statistic = static_cast<NoiseStatistic>(stat);
                       c.statistic = stat;
                       r.sharp_target = ts;
@@ -273,10 +290,10 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 }
 
 void print_rules(const char* label, const AutoRules& r) {
-  std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level | noise stat %d, "
+  std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
               "targets %.1f/%.1f | turned slack %g\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.turned_slack);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
@@ -286,6 +303,12 @@ double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
 }
 
 }  // namespace
+
+std::string fmt2(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2f", v);
+  return b;
+}
 
 int main(int argc, char** argv) {
   if (argc < 3 || (std::strcmp(argv[1], "fit") != 0 && std::strcmp(argv[1], "table") != 0)) {
@@ -357,7 +380,8 @@ int main(int argc, char** argv) {
       t_plain += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       t0 = std::chrono::steady_clock::now();
       const AutoReport a = denoise_auto(automatic, {}, {}, rules);
-      t_auto += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double seconds_auto = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      t_auto += seconds_auto;
       const double dm = angle_error(plain, pair.clean, &df), am = angle_error(automatic, pair.clean, &af);
       // Cost against a plain run with the options and iteration count --auto ended with.
       double ratio = 0.0;
@@ -366,12 +390,10 @@ int main(int argc, char** argv) {
         DenoiseOptions o = a.options;
         o.iterations = a.run.iterations;
         o.target_displacement = 0.0;
-        const double ta = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const auto t1 = std::chrono::steady_clock::now();
         denoise(same, o);
         const double tp = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-        (void)ta;
-        ratio = tp > 0 ? (std::chrono::duration<double>(t1 - t0).count()) / tp : 0.0;
+        ratio = tp > 0 ? seconds_auto / tp : 0.0;
         ratios.push_back(ratio);
         worst_ratio = std::max(worst_ratio, ratio);
       }
@@ -379,8 +401,12 @@ int main(int argc, char** argv) {
       beat += am < dm ? 1 : 0;
       bad += am > nm ? 1 : 0;
       flip_bad += af > nf ? 1 : 0;
-      std::printf("| %s%s | %s | %.2f / %ld | %.2f / %ld | **%.2f** / %ld | %s, %d%s%s | %.1fx |\n", model.name.c_str(),
-                  fold.count(model.name) ? "" : " (test only)", pair.variant.c_str(), nm, nf, dm, df, am, af, a.mode.c_str(),
+      // The best of the three in bold.
+      const double best = std::min({nm, dm, am});
+      auto cell = [&](double v) { return (v == best ? "**" : "") + fmt2(v) + (v == best ? "**" : ""); };
+      std::printf("| %s%s | %s | %s / %ld | %s / %ld | %s / %ld | %s, %d%s%s | %.1fx |\n", model.name.c_str(),
+                  fold.count(model.name) ? "" : " (test only)", pair.variant.c_str(), cell(nm).c_str(), nf, cell(dm).c_str(), df,
+                  cell(am).c_str(), af, a.mode.c_str(),
                   a.run.iterations, a.probe_iterations > 0 ? (" + " + std::to_string(a.probe_iterations) + " probe").c_str() : "",
                   a.run.stop_reason == "result check" ? " (check)" : "", ratio);
       std::fflush(stdout);

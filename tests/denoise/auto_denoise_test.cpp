@@ -56,6 +56,29 @@ TEST(AutoDenoise, KeepsTheEdgesOfANoisyCube) {
   EXPECT_EQ(r.flipped_faces, 0u);
 }
 
+// A noisy cube has almost no soft creases once the probe has run: it is clearly machined, so the displacement stop is
+// lifted and its flat faces keep improving; with the rule off the same run stops at the target.
+TEST(AutoDenoise, AClearlyMachinedPartRunsPastTheDisplacementTarget) {
+  const Mesh clean = test::make_cube(24);
+  Mesh input = clean;
+  NoiseOptions n;
+  n.level = 0.4;
+  n.direction = NoiseDirection::normal;
+  n.seed = 1;
+  add_noise(input, n);
+  Mesh with = input, without = input;
+  AutoRules off;
+  off.clear_sharp_share = 0.0;
+  const AutoReport a = denoise_auto(with, {}, {}, AutoRules{});
+  const AutoReport b = denoise_auto(without, {}, {}, off);
+  ASSERT_EQ(a.mode, "sharp") << a.reason;
+  ASSERT_EQ(b.mode, "sharp") << b.reason;
+  EXPECT_EQ(b.run.stop_reason, "target displacement");
+  EXPECT_NE(a.run.stop_reason, "target displacement");
+  EXPECT_GT(a.run.iterations, b.run.iterations);
+  EXPECT_LE(evaluate(with, &clean).msae_deg, evaluate(without, &clean).msae_deg);
+}
+
 TEST(AutoDenoise, DenoisesASphereWithoutShrinkingIt) {
   const Mesh clean = test::make_sphere(4);
   Mesh m = noisy(clean, 0.3);

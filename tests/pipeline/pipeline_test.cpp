@@ -7,6 +7,7 @@
 #include "helpers.h"
 #include "scanmesh/add_noise.h"
 #include "scanmesh/atomic_file.h"
+#include "scanmesh/auto_denoise.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/report.h"
@@ -98,6 +99,27 @@ TEST_F(PipelineTest, RunsWritesAReportAndMatchesTheApi) {
   EXPECT_EQ(read_file(path("api.ply")), read_file(path("out.ply")));
 }
 
+// What --auto measured and chose is in the sidecar as named values and in the HTML page, and matches the
+// API's AutoReport for the same mesh.
+TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {
+  const std::string yaml = "pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    auto: true\n  - type: report\n  - " +
+                           path("out.ply") + "\n";
+  Pipeline::load(write("p.yaml", yaml), {}).run();
+  const ReportPaths rp = report_paths(path("out.ply"));
+  const std::string json = read_file(rp.json), html = read_file(rp.html);
+  Mesh m = read_mesh(path("in.ply"));
+  const AutoReport a = denoise_auto(m, DenoiseOptions{});
+  ASSERT_FALSE(a.mode.empty());
+  EXPECT_NE(json.find("\"decision\": {\"mode\": \"" + a.mode + "\""), std::string::npos) << json;
+  for (const char* key : {"\"noise_level\": ", "\"soft_crease_share\": ", "\"stop_reason\": ", "\"check\": "})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  EXPECT_NE(html.find("Decision of mesh.denoise"), std::string::npos);
+  EXPECT_EQ(read_file(path("out.ply")), [&] {
+    write_mesh(m, path("api.ply"));
+    return read_file(path("api.ply"));
+  }());
+}
+
 TEST_F(PipelineTest, OverridesReplaceInputOutputAndOptions) {
   const std::string yaml = "pipeline:\n  - " + path("nothing.ply") + "\n  - type: mesh.denoise\n    tag: d\n  - " + path("x.ply") + "\n";
   PipelineOptions o;
@@ -180,7 +202,8 @@ TEST(PipelineSchema, EveryStageTypeIsListed) {
   for (const char* t : {"cloud.crop", "cloud.voxel", "cloud.outliers", "cloud.normals", "cloud.mls", "mesh.gp3", "mesh.organized",
                         "mesh.poisson", "mesh.cleanup", "mesh.denoise", "mesh.noise", "scan.virtual", "report"})
     EXPECT_NE(std::find(types.begin(), types.end(), t), types.end()) << t;
-  for (const auto& [t, keys] : schema)
-    if (t == "mesh.denoise")
-      for (const char* k : {"sigma_s", "lambda", "iterations", "auto"}) EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
+  for (const auto& [t, keys] : schema) {
+    if (t != "mesh.denoise") continue;
+    for (const char* k : {"sigma_s", "lambda", "iterations", "auto"}) EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
+  }
 }

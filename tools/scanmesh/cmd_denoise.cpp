@@ -89,6 +89,9 @@ int run_denoise(const std::vector<std::string>& args) {
       std::fprintf(stderr, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iterations (%s), radius factor %.3g; check: %s\n",
                    a.noise_level, a.mode.c_str(), a.reason.c_str(), options.sigma_s, options.lambda, report.iterations,
                    report.stop_reason.c_str(), options.radius_factor, a.check.c_str());
+    if (a.check != "passed" && a.check != "not needed")
+      std::fprintf(stderr, "warning: '%s': the result check ended --auto early (%s); the last iteration that passed was written\n",
+                   in.c_str(), a.check.c_str());
   } else {
     if (!quiet) {
       const double plane = analyse_noise(mesh).exact_plane_fraction;

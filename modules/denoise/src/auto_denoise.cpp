@@ -94,13 +94,21 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   const double input_volume = closed ? enclosed_volume(mesh.positions, mesh.faces) : 0.0;
   const int cap = is_given("iterations") ? o.iterations : rules.max_iterations;
 
-  // Runs `opt` on `m`, with the result check after every iteration: a step that turns more faces
+  // Runs `opt` on `m` with the result check after every iteration: a step that turns more faces
   // against the smoothed input than the input has, or changes a closed mesh's volume by more than the
-  // limit, is undone and ends the run. `probe` (if set) may end it too.
-  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const std::function<bool(int, const std::vector<Vec3>&)>& probe) {
+  // limit, is undone and ends the run. The discrepancy target ends it too, unless `probe` (asked after
+  // every accepted iteration) lifts it; the probe may also end the run.
+  enum class Probe { go_on, stop, no_target };
+  using ProbeFn = std::function<Probe(int, const std::vector<Vec3>&)>;
+  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe) {
+    const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
+    const double target = opt.target_displacement * edge;
+    bool target_on = target > 0.0, reached = false;
+    DenoiseOptions inner = opt;
+    inner.target_displacement = 0.0;  // applied below, where the probe can lift it
     std::vector<Vec3> accepted = m.positions;
     std::string verdict = "passed";
-    DenoiseReport rep = denoise(m, opt, progress, [&](int it, const std::vector<Vec3>& pos) {
+    DenoiseReport rep = denoise(m, inner, progress, [&](int it, const std::vector<Vec3>& pos) {
       const std::size_t turned = turned_faces(pos, m.faces, reference);
       if (static_cast<double>(turned) > std::max(static_cast<double>(input_turned), rules.turned_slack * static_cast<double>(m.faces.size()))) {
         std::snprintf(line, sizeof line, "stopped after %d iterations: %zu faces turned against the smoothed input (input: %zu)",
@@ -117,13 +125,23 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         }
       }
       accepted = pos;
-      return !probe || probe(it, pos);
+      if (target_on && normal_displacement(topo, m.faces, start, pos) >= target) {
+        reached = true;
+        return false;
+      }
+      const Probe next = probe ? probe(it, pos) : Probe::go_on;
+      if (next == Probe::no_target) target_on = false;
+      return next != Probe::stop;
     });
+    m.positions = accepted;  // the last iteration that passed (denoise's own result otherwise)
+    refresh_stored_normals(m);
     if (verdict != "passed") {
-      m.positions = accepted;  // the last iteration that passed
-      refresh_stored_normals(m);
+      rep.iterations = std::max(0, rep.iterations - 1);
       rep.stop_reason = "result check";
+    } else if (reached) {
+      rep.stop_reason = "target displacement";
     }
+    rep.displacement = normal_displacement(topo, m.faces, start, m.positions);
     return std::make_pair(rep, verdict);
   };
 
@@ -170,11 +188,15 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   const bool decide = !is_given("sigma_s");
   Mesh trial = mesh;
   double creases = -1.0;
+  bool clear = false;
   const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
   auto probe = [&](int it, const std::vector<Vec3>& pos) {
-    if (!decide || it != rules.probe_iterations) return true;
+    if (!decide || it != rules.probe_iterations) return Probe::go_on;
     creases = soft_crease_share(pos, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
-    return creases <= crease_limit;  // false: smooth shape, this run ends here
+    if (creases > crease_limit) return Probe::stop;  // smooth shape: this run ends here
+    // Clearly machined: flat faces keep improving long after the noise-sized displacement.
+    clear = rules.clear_sharp_share > 0.0 && creases < rules.clear_sharp_share && !is_given("target_displacement");
+    return clear ? Probe::no_target : Probe::go_on;
   };
   auto [rep, verdict] = checked_run(trial, sharp, probe);
   if (decide && creases < 0.0)  // ended before the probe
@@ -195,8 +217,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   } else {
     r.mode = "sharp";
     if (decide)
-      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases",
-                    std::min(rep.iterations, rules.probe_iterations), 100.0 * creases);
+      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases%s",
+                    std::min(rep.iterations, rules.probe_iterations), 100.0 * creases,
+                    clear ? " (clearly machined: no displacement stop)" : "");
     else
       std::snprintf(line, sizeof line, "sigma_s given: one run");
     r.reason = line;

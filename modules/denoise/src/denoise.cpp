@@ -109,18 +109,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.
   const double target = options.target_displacement * mean_edge_length(mesh, topology);
-  auto normal_displacement = [&] {
-    const std::vector<Vec3> vn = vertex_normals(topology, geometry);
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-      if (topology.vertex_faces.size(v) == 0) continue;
-      const double d = (positions[v] - mesh.positions[v]).dot(vn[v]);
-      sum += d * d;
-      ++n;
-    }
-    return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
-  };
+  auto displacement = [&] { return normal_displacement(topology, mesh.faces, mesh.positions, positions); };
 
   std::vector<Vec3> filtered;
   double lambda = options.lambda;
@@ -151,7 +140,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     lambda *= options.decay;
     ++report.iterations;
     if (progress) progress(it + 1, options.iterations);
-    if (target > 0.0 && (report.displacement = normal_displacement()) >= target) {
+    if (target > 0.0 && (report.displacement = displacement()) >= target) {
       report.stop_reason = "target displacement";
       break;
     }
@@ -164,7 +153,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
       }
     }
   }
-  if (target <= 0.0) report.displacement = normal_displacement();
+  if (target <= 0.0) report.displacement = displacement();
   report.displacement /= scale;
   for (std::size_t v = 0; v < positions.size(); ++v)
     if (!positions[v].allFinite())
@@ -190,6 +179,22 @@ void refresh_stored_normals(Mesh& mesh) {
     ny->values[v] = normals[v][1];
     nz->values[v] = normals[v][2];
   }
+}
+
+double normal_displacement(const Topology& topology, const std::vector<Face>& faces, const std::vector<Vec3>& from,
+                           const std::vector<Vec3>& to) {
+  FaceGeometry geometry;
+  compute_face_geometry(to, faces, geometry);
+  const std::vector<Vec3> vn = vertex_normals(topology, geometry);
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < to.size(); ++v) {
+    if (topology.vertex_faces.size(v) == 0) continue;
+    const double d = (to[v] - from[v]).dot(vn[v]);
+    sum += d * d;
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
 }
 
 }  // namespace scanmesh

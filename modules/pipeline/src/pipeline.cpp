@@ -73,6 +73,8 @@ struct Stage {
   virtual void bind(Binder& b) = 0;
   virtual void run(Data& d, RunContext& ctx) = 0;
   std::string details;
+  std::vector<std::pair<std::string, std::string>> decision_text;  // see StageRecord
+  std::vector<std::pair<std::string, double>> decision_numbers;
 };
 
 struct ReaderStage : Stage {
@@ -297,6 +299,20 @@ struct DenoiseStage : Stage {
                     a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
                     a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
       details = buf;
+      decision_text = {{"mode", a.mode}, {"reason", a.reason}, {"stop_reason", a.run.stop_reason}, {"check", a.check}};
+      decision_numbers = {{"noise_level", a.noise_level},
+                          {"noise", a.noise},
+                          {"exact_plane_fraction", a.exact_plane_fraction},
+                          {"isolated_outlier_share", a.impulsive_share},
+                          {"soft_crease_share", a.crease_share},
+                          {"sigma_s", a.options.sigma_s},
+                          {"lambda", a.options.lambda},
+                          {"radius_factor", a.options.radius_factor},
+                          {"iterations", static_cast<double>(a.run.iterations)},
+                          {"probe_iterations", static_cast<double>(a.probe_iterations)},
+                          {"displacement", a.run.displacement}};
+      if (a.check != "passed" && a.check != "not needed")
+        ctx.warnings.push_back("mesh.denoise: the result check ended the run early (" + a.check + ")");
       return;
     }
     char buf[128];
@@ -654,6 +670,8 @@ PipelineResult Pipeline::run() {
       rec.vertices = data.mesh ? data.mesh->num_vertices() : 0;
       rec.faces = data.mesh ? data.mesh->num_faces() : 0;
       rec.details = s.stage->details;
+      rec.decision_text = s.stage->decision_text;
+      rec.decision_numbers = s.stage->decision_numbers;
       report.stages.push_back(rec);
       if (impl_->options.log) {
         char line[256];

@@ -263,7 +263,15 @@ std::string sidecar(const ReportInput& in, const MeshMetrics* metrics, const std
     const auto& s = in.stages[i];
     o << (i ? ",\n" : "\n") << "    {\"type\": \"" << json_escape(s.type) << "\", \"tag\": \"" << json_escape(s.tag)
       << "\", \"seconds\": " << num(s.seconds) << ", \"peak_memory_mb\": " << num(s.peak_memory_mb) << ", \"points\": " << s.points
-      << ", \"vertices\": " << s.vertices << ", \"faces\": " << s.faces << ", \"details\": \"" << json_escape(s.details) << "\"}";
+      << ", \"vertices\": " << s.vertices << ", \"faces\": " << s.faces << ", \"details\": \"" << json_escape(s.details) << "\"";
+    if (!s.decision_text.empty() || !s.decision_numbers.empty()) {
+      o << ", \"decision\": {";
+      bool first = true;
+      for (const auto& [k, v] : s.decision_text) o << (first ? "" : ", ") << "\"" << json_escape(k) << "\": \"" << json_escape(v) << "\"", first = false;
+      for (const auto& [k, v] : s.decision_numbers) o << (first ? "" : ", ") << "\"" << json_escape(k) << "\": " << num(v), first = false;
+      o << "}";
+    }
+    o << "}";
   }
   o << "\n  ],\n  \"peak_memory_mb\": " << num(peak_memory_mb()) << ",\n";
   o << "  \"metrics\": ";
@@ -422,7 +430,17 @@ std::vector<std::string> write_report(const ReportInput& in, const ReportOptions
       h << "<tr><td style=\"text-align:left\">" << s.type << "</td><td>" << s.tag << "</td><td>" << fmt(s.seconds, 3) << "</td><td>"
         << fmt(s.peak_memory_mb, 4) << "</td><td>" << s.points << "</td><td>" << s.faces << "</td><td style=\"text-align:left\">" << html_escape(s.details)
         << "</td></tr>\n";
-    h << "</table>\n<h2>Configuration</h2><pre>" << html_escape(in.config_yaml) << "</pre>\n<h2>Figures</h2>\n";
+    h << "</table>\n";
+    for (const auto& s : in.stages) {
+      if (s.decision_text.empty() && s.decision_numbers.empty()) continue;
+      h << "<h2>Decision of " << html_escape(s.type) << (s.tag.empty() ? "" : " (" + html_escape(s.tag) + ")") << "</h2><table>\n";
+      for (const auto& [k, v] : s.decision_text)
+        h << "<tr><th style=\"text-align:left\">" << html_escape(k) << "</th><td style=\"text-align:left\">" << html_escape(v) << "</td></tr>\n";
+      for (const auto& [k, v] : s.decision_numbers)
+        h << "<tr><th style=\"text-align:left\">" << html_escape(k) << "</th><td style=\"text-align:left\">" << fmt(v, 4) << "</td></tr>\n";
+      h << "</table>\n";
+    }
+    h << "<h2>Configuration</h2><pre>" << html_escape(in.config_yaml) << "</pre>\n<h2>Figures</h2>\n";
     for (std::size_t k = 0; k < figures.size(); ++k)
       h << "<img alt=\"" << std::filesystem::path(figures[k]).filename().string() << "\" src=\"data:image/png;base64,"
         << base64(std::vector<unsigned char>(pngs[k].begin(), pngs[k].end())) << "\">\n";

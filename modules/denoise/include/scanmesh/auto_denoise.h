@@ -8,8 +8,10 @@
 //    removed by moving only the outliers.
 // 4. Otherwise a feature-keeping run starts (narrow kernel). If after `probe_iterations` its surface is
 //    still full of soft creases (20-45 degrees; the features of machined parts are sharper), they are
-//    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel. Either run stops by the discrepancy principle, once the
-//    vertices have moved about as far as the noise displaced them.
+//    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel.
+//    Either run stops by the discrepancy principle, once the vertices have moved about as far as the noise
+//    displaced them, except a clearly machined part (almost no soft creases at the probe), whose flat
+//    faces keep improving: it runs all iterations.
 // 5. The result is checked (no more faces turned against the smoothed input than the input itself has,
 //    volume kept); if the check fails, the last iteration that passed is returned.
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
@@ -43,6 +45,9 @@ struct AutoRules {
   double soft_crease_max_deg = 45.0;  ///< ...and at most this (real features of parts are sharper)
   double crease_share = 0.015;        ///< share of soft creases at the probe above which the mesh is smooth...
   double crease_share_per_level = 0.05;  ///< ...plus this times the noise level (strong noise leaves more)
+  /// Below this share of soft creases at the first probe the part is clearly machined: no stopping rule,
+  /// every iteration runs (flat faces keep improving long after the noise-sized displacement). 0 = off.
+  double clear_sharp_share = 0.008;
   double sharp_target = 0.8;      ///< discrepancy target, x the robust noise estimate, feature-keeping run
   double smooth_target = 0.6;     ///< the same for the wide-kernel run
   int max_iterations = 200;

@@ -12,6 +12,8 @@
 
 namespace scanmesh {
 
+struct Topology;
+
 /// Robust estimator whose weight function g(x, sigma_s) compares two unit normals, x = |n_i - n_j| in [0, 2].
 enum class RobustEstimator {
   tukey,       ///< 0.5 (1 - (x/s)^2)^2 for x <= s, else 0: no diffusion across features (the paper's choice)
@@ -132,5 +134,10 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
 
 /// Recomputes stored vertex normals (nx, ny, nz), if the mesh has them, from its current faces.
 void refresh_stored_normals(Mesh& mesh);
+
+/// RMS distance the vertices moved from `from` to `to` along the vertex normals of `to` (vertices without
+/// faces are not counted): what the discrepancy principle (`target_displacement`) compares with the noise.
+double normal_displacement(const Topology& topology, const std::vector<Face>& faces, const std::vector<Vec3>& from,
+                           const std::vector<Vec3>& to);
 
 }  // namespace scanmesh

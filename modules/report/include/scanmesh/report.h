@@ -4,6 +4,7 @@
 // one self-contained page showing all of it. Options struct = schema of the `report` pipeline stage.
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scanmesh/atomic_file.h"
@@ -34,6 +35,10 @@ struct StageRecord {
   double peak_memory_mb = 0.0;  ///< process peak resident memory after the stage
   std::size_t points = 0, vertices = 0, faces = 0;
   std::string details;          ///< e.g. the parameters --auto chose
+  /// What a deciding stage (mesh.denoise with auto) measured and chose, as named values: the sidecar's
+  /// "decision" object and a table in the HTML page.
+  std::vector<std::pair<std::string, std::string>> decision_text;
+  std::vector<std::pair<std::string, double>> decision_numbers;
 };
 
 /// Everything a report is made from. `before` is the mesh as it entered the first stage that moved its
