@@ -46,6 +46,7 @@ const Case kCases[] = {
     {"off-double-overflow.off", "eval", "'1e309' is too large"},
     {"ply-double-overflow.ply", "eval", "'1e309' in vertex 2 of 3 is too large"},
     {"stl-double-overflow.stl", "eval", "'1e309' is too large"},
+    {"ply-index-beyond-integers.ply", "eval", "refers to vertex 1e+30"},
 };
 
 }  // namespace
@@ -122,7 +123,7 @@ TEST_F(Hostile, ConcurrentRunsWritingOneOutputNeverMix) {
   const std::vector<std::string> leaves = {"1*spacing", "2*spacing", "3*spacing", "4*spacing"};
   std::vector<std::string> expected;
   for (const auto& leaf : leaves) {
-    const std::string yaml = write("p.yaml", "pipeline:\n  - " + cloud + "\n  - type: cloud.voxel\n    leaf: " + leaf + "\n  - " +
+    const std::string yaml = write("p.yaml", "pipeline:\n  - " + cloud + "\n  - type: cloud.voxel\n    voxel_leaf: " + leaf + "\n  - " +
                                                  path("solo.pcd") + "\n");
     ASSERT_EQ(run_scanmesh({"run", yaml, "-q"}, path("err")).exit_code, 0);
     expected.push_back(scanmesh::read_file(path("solo.pcd")));
@@ -130,7 +131,7 @@ TEST_F(Hostile, ConcurrentRunsWritingOneOutputNeverMix) {
   for (int round = 0; round < 3; ++round) {
     std::vector<pid_t> pids;
     for (std::size_t k = 0; k < leaves.size(); ++k) {
-      const std::string yaml = write("p" + std::to_string(k) + ".yaml", "pipeline:\n  - " + cloud + "\n  - type: cloud.voxel\n    leaf: " +
+      const std::string yaml = write("p" + std::to_string(k) + ".yaml", "pipeline:\n  - " + cloud + "\n  - type: cloud.voxel\n    voxel_leaf: " +
                                                                            leaves[k] + "\n  - " + path("same.pcd") + "\n");
       pids.push_back(scanmesh::test::spawn_scanmesh({"run", yaml, "-q"}, path("err" + std::to_string(k))));
     }

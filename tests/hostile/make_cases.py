@@ -44,3 +44,7 @@ write('ply-double-overflow.ply', "ply\nformat ascii 1.0\nelement vertex 3\nprope
       "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1e309 0\n3 0 1 2\n")
 write('stl-double-overflow.stl', "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1e309 0\n"
       "endloop\nendfacet\nendsolid x\n")
+# A float-typed vertex index far beyond any integer type (found by fuzz_range): the message must print it
+# without converting it to an integer first.
+write('ply-index-beyond-integers.ply', "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1e30\n")

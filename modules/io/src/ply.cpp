@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "formats.h"
+#include "scanmesh/schema.h"
 #include "text_scanner.h"
 
 namespace scanmesh::detail {
@@ -263,7 +264,7 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   auto vertex_index = [&](const Element& e, long long item, double idx, bool allow_minus_one) {
     if (allow_minus_one && idx == -1.0) return -1;
     if (!(idx >= 0) || idx >= static_cast<double>(vertex->count) || idx != std::floor(idx))
-      throw InputError(file + ": " + e.name + " " + std::to_string(item) + " refers to vertex " + std::to_string(static_cast<long long>(idx)) +
+      throw InputError(file + ": " + e.name + " " + std::to_string(item) + " refers to vertex " + format_number(idx) +
                        ", but there are only " + std::to_string(vertex->count) + " vertices");
     return static_cast<int>(idx);
   };
