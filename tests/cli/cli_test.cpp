@@ -183,9 +183,9 @@ TEST_F(Cli, PipelineMatchesTheSubcommandsAndWritesAReport) {
   r = run("run " + bad);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find(bad + ":3:"), std::string::npos) << r.err;
-  r = run("run " + config + " --set mesh.radiuss=3*spacing");
+  r = run("run " + config + " --set mesh.gp3_radiuss=3*spacing");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("did you mean 'radius'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("did you mean 'gp3_radius'"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, HelpExplainsEveryParameter) {

@@ -62,7 +62,7 @@ TEST_F(PipelineTest, WrongValueType) {
   expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    iterations: many\n  - " + path("out.ply") + "\n", 4,
                       "key 'iterations': expected a whole number");
   expect_config_error("pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    estimator: median\n  - " + path("out.ply") + "\n", 4,
-                      "valid: tukey, gaussian, huber, lorentzian");
+                      "choose tukey | gaussian | huber | lorentzian");
 }
 
 TEST_F(PipelineTest, MissingInputFile) {
@@ -187,7 +187,7 @@ TEST_F(PipelineTest, AMissingOutputFolderFailsAtLoading) {
 TEST_F(PipelineTest, AnEmptyResultIsAFailure) {
   // Cropping every point away: nothing to write is an error, with a failed sidecar, not an empty file.
   write("c.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
-  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.crop\n    min: [5, 5, 5]\n  - type: report\n  - " +
+  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.crop\n    crop_min: [5, 5, 5]\n  - type: report\n  - " +
                            path("out.ply") + "\n";
   Pipeline p = Pipeline::load(write("p.yaml", yaml), {});
   EXPECT_THROW(p.run(), Error);

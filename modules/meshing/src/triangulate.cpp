@@ -156,4 +156,25 @@ Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const
   return m;
 }
 
+Mesh triangulate(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
+                 const PoissonOptions& poisson, const CloudScale& scale, std::string* chosen) {
+  MeshMethod m = method.method;
+  std::string why;
+  if (m == MeshMethod::automatic) {
+    m = cloud.organized() ? MeshMethod::organized : MeshMethod::gp3;
+    why = cloud.organized() ? "organized cloud: organized meshing" : "unorganized cloud: greedy projection";
+  }
+  if (m == MeshMethod::organized && !cloud.organized())
+    throw InputError("organized meshing needs an organized cloud (a width x height grid); this one is a list of " +
+                     std::to_string(cloud.size()) + " points (use method gp3 or poisson)");
+  if (m != MeshMethod::organized && !cloud.has_normals()) estimate_normals(cloud, NormalOptions{});
+  if (chosen)
+    *chosen = !why.empty() ? why : m == MeshMethod::gp3 ? "greedy projection" : m == MeshMethod::organized ? "organized meshing" : "Poisson";
+  switch (m) {
+    case MeshMethod::organized: return triangulate_organized(cloud, organized, scale);
+    case MeshMethod::poisson: return triangulate_poisson(cloud, poisson, scale);
+    default: return triangulate_gp3(cloud, gp3, scale);
+  }
+}
+
 }  // namespace scanmesh

@@ -1,7 +1,6 @@
 #include "binder.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace scanmesh::detail {
 
@@ -40,7 +39,14 @@ std::string join(const std::vector<std::string>& items) {
   return s;
 }
 
-YAML::Node Binder::take(const char* key) {
+std::string Where::prefix(int at_line) const {
+  std::string s = (file.empty() ? std::string() : file + ":" + std::to_string(at_line > 0 ? at_line : line) + ": ") + "stage " +
+                  std::to_string(index + 1) + " '" + type + "'";
+  if (!tag.empty()) s += " (tag '" + tag + "')";
+  return s;
+}
+
+YAML::Node Binder::take(const std::string& key) {
   if (!active_ || !node_ || !node_.IsMap()) return YAML::Node();
   const YAML::Node& map = node_;  // const lookup: yaml-cpp's non-const operator[] would insert the key
   const YAML::Node n = map[key];
@@ -50,78 +56,44 @@ YAML::Node Binder::take(const char* key) {
 }
 
 void Binder::fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
+  if (where_.file.empty()) {  // built from a command line: name the flag
+    FieldInfo f;
+    f.name = key;
+    throw ConfigError(f.flag() + ": " + what);
+  }
   throw ConfigError(where_.prefix(n.Mark().line + 1) + ": key '" + key + "': " + what);
 }
 
-void Binder::number(const char* key, double& v, double lo, double hi) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  double x = 0.0;
-  if (!n.IsScalar() || !YAML::convert<double>::decode(n, x) || !std::isfinite(x))
-    fail(n, key, "expected a number, got '" + (n.IsScalar() ? n.Scalar() : std::string("a list or map")) + "'");
-  if (x < lo || x > hi) fail(n, key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + n.Scalar());
-  v = x;
-}
-
-void Binder::integer(const char* key, int& v, int lo, int hi) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  int x = 0;
-  if (!n.IsScalar() || !YAML::convert<int>::decode(n, x))
-    fail(n, key, "expected a whole number, got '" + (n.IsScalar() ? n.Scalar() : std::string("a list or map")) + "'");
-  if (x < lo || x > hi) fail(n, key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + n.Scalar());
-  v = x;
-}
-
-void Binder::seed(const char* key, std::uint64_t& v) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  unsigned long long x = 0;
-  if (!n.IsScalar() || !YAML::convert<unsigned long long>::decode(n, x))
-    fail(n, key, "expected a non-negative whole number, got '" + (n.IsScalar() ? n.Scalar() : std::string("a list or map")) + "'");
-  v = x;
-}
-
-void Binder::flag(const char* key, bool& v) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  bool x = false;
-  if (!n.IsScalar() || !YAML::convert<bool>::decode(n, x))
-    fail(n, key, "expected true or false, got '" + (n.IsScalar() ? n.Scalar() : std::string("a list or map")) + "'");
-  v = x;
-}
-
-void Binder::text(const char* key, std::string& v) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  if (!n.IsScalar()) fail(n, key, "expected a text value");
-  v = n.Scalar();
-}
-
-void Binder::length(const char* key, Length& v) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  if (!n.IsScalar()) fail(n, key, "expected a length (a number, N*spacing, N*edge or N%)");
-  try {
-    v = parse_length(n.Scalar(), key);
-  } catch (const UsageError&) {
-    fail(n, key, "'" + n.Scalar() + "' is not a length; use a number (scene units), N*spacing, N*edge or N%");
+void Binder::options(OptionSet& set) {
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const FieldInfo& f = set.info(i);
+    names_.push_back(f.name);
+    const YAML::Node n = take(f.name);
+    if (!n.IsDefined() || n.IsNull()) continue;  // absent (take() returns a null node then)
+    std::string text;
+    if (n.IsScalar()) {
+      text = n.Scalar();
+    } else if (f.type == FieldType::vec3 && n.IsSequence()) {
+      text = "[";
+      for (std::size_t k = 0; k < n.size(); ++k) {
+        if (!n[k].IsScalar()) fail(n, f.name, "expected three numbers, e.g. [0, 0, 0]");
+        text += (k ? ", " : "") + n[k].Scalar();
+      }
+      text += "]";
+    } else {
+      fail(n, f.name, "expected " + f.domain() + ", got a " + (n.IsSequence() ? "list" : "map"));
+    }
+    try {
+      set.set(i, text);
+    } catch (const UsageError& e) {
+      // The schema's message starts with the flag ("--sigma-s: ..."); here the key is named instead.
+      std::string what = e.what();
+      const std::string flag = f.flag() + ": ";
+      if (what.rfind(flag, 0) == 0) what = what.substr(flag.size());
+      if (f.type == FieldType::choice) what = did_you_mean(text, f.choices) + what;
+      fail(n, f.name, what);
+    }
   }
-}
-
-void Binder::vec3(const char* key, Vec3& v) {
-  names_.emplace_back(key);
-  const YAML::Node n = take(key);
-  if (!n || n.IsNull()) return;
-  if (!n.IsSequence() || n.size() != 3) fail(n, key, "expected three numbers, e.g. [0, 0, 0]");
-  for (int c = 0; c < 3; ++c)
-    if (!n[c].IsScalar() || !YAML::convert<double>::decode(n[c], v[c])) fail(n, key, "expected three numbers, e.g. [0, 0, 0]");
 }
 
 void Binder::finish() const {

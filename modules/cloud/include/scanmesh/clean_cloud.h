@@ -29,7 +29,7 @@ struct VoxelOptions {
   Length leaf = Length::spacings(0.0);
   static const Schema<VoxelOptions>& schema() {
     static const Schema<VoxelOptions> s = Schema<VoxelOptions>().length(
-        "leaf", &VoxelOptions::leaf, at_least(0), "Voxel-grid edge: one point (the centroid) per occupied voxel; 0 keeps every point.");
+        "voxel_leaf", &VoxelOptions::leaf, at_least(0), "Voxel-grid edge: one point (the centroid) per occupied voxel; 0 keeps every point.");
     return s;
   }
 };

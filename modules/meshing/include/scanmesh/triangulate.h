@@ -69,4 +69,25 @@ struct PoissonOptions {
 /// Needs oriented normals. Creates new vertices (smooth surface), unlike gp3 and organized.
 Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& options, const CloudScale& scale);
 
+enum class MeshMethod { automatic, gp3, organized, poisson };
+
+/// The choice of method (mesh.auto and `scanmesh mesh`); each method's own options are its struct's.
+struct MeshMethodOptions {
+  MeshMethod method = MeshMethod::automatic;
+  static const Schema<MeshMethodOptions>& schema() {
+    static const Schema<MeshMethodOptions> s = Schema<MeshMethodOptions>().choice(
+        "method", &MeshMethodOptions::method,
+        {{"auto", MeshMethod::automatic}, {"gp3", MeshMethod::gp3}, {"organized", MeshMethod::organized}, {"poisson", MeshMethod::poisson}},
+        "auto: organized meshing for organized clouds, else greedy projection; gp3 keeps the measured points as "
+        "vertices; organized needs a grid cloud; poisson makes a smooth surface with new vertices.");
+    return s;
+  }
+};
+
+/// Triangulates with the chosen method (auto: organized for organized clouds, else gp3). Normals are
+/// estimated with default options if the method needs them and the cloud has none. `chosen` (if given)
+/// receives a line saying which method ran and why.
+Mesh triangulate(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
+                 const PoissonOptions& poisson, const CloudScale& scale, std::string* chosen = nullptr);
+
 }  // namespace scanmesh

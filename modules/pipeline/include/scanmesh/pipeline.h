@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "scanmesh/errors.h"
@@ -34,9 +35,19 @@ struct PipelineOptions {
   std::function<void(const std::string&)> log;
 };
 
+/// One stage given in code (what the command-line verbs build): its type, tag and options as text, each
+/// parsed by the stage's schema exactly as the same key in YAML.
+struct StageSpec {
+  std::string type;
+  std::string tag;
+  std::vector<std::pair<std::string, std::string>> options;
+};
+
 struct PipelineResult {
   std::string output;
   std::vector<std::string> report_files;  ///< sidecar, figures and page, if the pipeline has a report stage
+  std::vector<std::string> warnings;      ///< what the stages warned about (also in the sidecar)
+  std::string summary;                    ///< what came out: "V vertices, F faces, B boundary loops, C components"
   double seconds = 0.0;
 };
 
@@ -47,6 +58,8 @@ class Pipeline {
   static Pipeline load(const std::string& path, const PipelineOptions& options);
   /// The same on YAML text in memory; `path` names it in messages.
   static Pipeline parse(std::string_view yaml, const std::string& path, const PipelineOptions& options);
+  /// A pipeline from stages given in code; errors name options as command-line flags (--sigma-s).
+  static Pipeline build(const std::vector<StageSpec>& stages, const PipelineOptions& options);
   ~Pipeline();
   Pipeline(Pipeline&&) noexcept;
   Pipeline& operator=(Pipeline&&) noexcept;
@@ -59,9 +72,11 @@ class Pipeline {
   /// status "failed", and the error is rethrown.
   PipelineResult run();
 
+  struct Impl;  ///< opaque (pipeline_impl.h)
+
  private:
-  struct Impl;
   explicit Pipeline(std::unique_ptr<Impl> impl);
+  static Pipeline finish(std::unique_ptr<Impl> impl);  // overrides, binding and checks
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,0 +1,105 @@
+// Running a loaded pipeline: stages in order, one record per stage, every output committed together at
+// the end (or, on failure, none and a sidecar saying why).
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+#include "pipeline_impl.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/parallel.h"
+#include "scanmesh/report.h"
+
+#ifndef SCANMESH_VERSION
+#define SCANMESH_VERSION "unknown"
+#endif
+
+namespace scanmesh {
+
+using detail::Data;
+using detail::Stage;
+
+PipelineResult Pipeline::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  set_thread_count(impl_->options.threads);
+  ReportInput report;
+  report.output_path = impl_->output;
+  report.tool_version = SCANMESH_VERSION;
+  report.config_yaml = resolved_config();
+  report.threads = thread_count();
+  OutputTransaction outputs;
+  detail::RunContext ctx;
+  ctx.options = &impl_->options;
+  ctx.outputs = &outputs;
+  ctx.report = &report;
+  Stage* report_stage = nullptr;
+  for (auto& s : impl_->slots) {
+    if (s.stage->is_report()) report_stage = s.stage.get();
+    if (s.where.type == "read" && report.input_path.empty()) report.input_path = s.stage->files_read().front();
+  }
+  Data data;
+  std::map<std::string, Data> tagged;
+  PipelineResult result;
+  result.output = impl_->output;
+  try {
+    for (auto& s : impl_->slots) s.stage->prepare(ctx);
+    for (auto& s : impl_->slots) {
+      if (!s.inputs.empty()) data = tagged.at(s.inputs.front());
+      const auto ts = std::chrono::steady_clock::now();
+      try {
+        s.stage->run(data, ctx);
+      } catch (const Error& e) {
+        throw InputError(s.where.prefix() + ": " + e.what());
+      }
+      StageRecord rec;
+      rec.type = s.where.type;
+      rec.tag = s.where.tag;
+      rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
+      rusage u{};
+      getrusage(RUSAGE_SELF, &u);
+      rec.peak_memory_mb = static_cast<double>(u.ru_maxrss) / 1024.0;
+      rec.points = data.cloud ? data.cloud->finite_count() : 0;
+      rec.vertices = data.mesh ? data.mesh->num_vertices() : 0;
+      rec.faces = data.mesh ? data.mesh->num_faces() : 0;
+      rec.details = s.stage->details;
+      rec.decision_text = s.stage->decision_text;
+      rec.decision_numbers = s.stage->decision_numbers;
+      report.stages.push_back(rec);
+      if (impl_->options.log) {
+        char line[1024];
+        std::snprintf(line, sizeof line, "%-15s %7.3f s  %zu points, %zu faces%s%s", rec.type.c_str(), rec.seconds, rec.points, rec.faces,
+                      rec.details.empty() ? "" : "  ", rec.details.c_str());
+        impl_->options.log(line);
+      }
+      if (!s.where.tag.empty()) tagged[s.where.tag] = data;
+    }
+    report.seed = data.seed;
+    report.warnings = ctx.warnings;
+    if (report_stage) result.report_files = report_stage->write_report(report, data, ctx);
+    outputs.commit();
+  } catch (const std::exception& e) {
+    if (report_stage && !impl_->output.empty()) {
+      report.warnings = ctx.warnings;
+      try {
+        report_stage->write_failure(report, e.what());
+      } catch (...) {
+      }
+    }
+    throw;
+  }
+  result.warnings = ctx.warnings;
+  if (data.mesh) {
+    const TopologyStats t = topology_stats(*data.mesh);
+    char line[256];
+    std::snprintf(line, sizeof line, "%zu vertices, %zu faces, %zu boundary loops, %zu components", t.vertices, t.faces, t.boundary_loops,
+                  t.components);
+    result.summary = line;
+  } else if (data.cloud) {
+    result.summary = std::to_string(data.cloud->finite_count()) + " points";
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+}  // namespace scanmesh

@@ -1,0 +1,103 @@
+#pragma once
+// What a pipeline stage is, inside the pipeline module: the data flowing between stages, the run's
+// context, the Stage interface and the registry of stage types. Stage families register themselves
+// (stages_*.cpp); the loader and the run loop only see this interface.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "binder.h"
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/length.h"
+#include "scanmesh/mesh.h"
+#include "scanmesh/pipeline.h"
+#include "scanmesh/point_cloud.h"
+
+namespace scanmesh {
+struct ReportInput;
+}
+
+namespace scanmesh::detail {
+
+/// What flows from stage to stage.
+struct Data {
+  std::optional<PointCloud> cloud;
+  std::optional<Mesh> mesh;
+  std::optional<Mesh> before;  ///< the mesh before the first vertex-moving stage, for the report
+  std::optional<CloudScale> scale;
+  std::uint64_t seed = 0;
+};
+
+/// What every stage of one run shares.
+struct RunContext {
+  const PipelineOptions* options = nullptr;
+  OutputTransaction* outputs = nullptr;  ///< every file the run writes, made visible when it succeeds
+  std::vector<std::string> warnings;
+  ReportInput* report = nullptr;
+};
+
+/// The point spacing and extent of the cloud, measured once.
+const CloudScale& scale_of(Data& d);
+PointCloud& need_cloud(Data& d, const char* stage);
+Mesh& need_mesh(Data& d, const char* stage);
+
+/// One stage: binds its options (from YAML, or in schema mode only lists them) and runs.
+struct Stage {
+  virtual ~Stage() = default;
+  virtual void bind(Binder& b) = 0;
+  /// Before any stage runs (e.g. read a reference), so input errors surface before the work.
+  virtual void prepare(RunContext&) {}
+  virtual void run(Data& d, RunContext& ctx) = 0;
+  /// Files this stage reads or writes (checked at loading: inputs exist, outputs writable, never an input).
+  [[nodiscard]] virtual std::vector<std::string> files_read() const { return {}; }
+  [[nodiscard]] virtual std::vector<std::string> files_written() const { return {}; }
+  /// A report stage writes, after the last stage, the sidecar and figures into the run's outputs (and
+  /// returns their names), or on failure a sidecar saying so.
+  [[nodiscard]] virtual bool is_report() const { return false; }
+  virtual std::vector<std::string> write_report(ReportInput&, const Data&, RunContext&) { return {}; }
+  virtual void write_failure(ReportInput&, const std::string& /*error*/) {}
+
+  std::string details;  ///< one line for the log and the sidecar
+  std::vector<std::pair<std::string, std::string>> decision_text;  ///< see StageRecord
+  std::vector<std::pair<std::string, double>> decision_numbers;
+};
+
+using StageFactory = std::function<std::unique_ptr<Stage>()>;
+
+/// Stage types by name, in registration order.
+class StageRegistry {
+ public:
+  void add(const std::string& type, StageFactory make);
+  /// nullptr if unknown.
+  [[nodiscard]] const StageFactory* find(const std::string& type) const;
+  [[nodiscard]] std::vector<std::string> types() const;
+
+ private:
+  std::vector<std::pair<std::string, StageFactory>> types_;
+};
+
+/// Every stage type this program knows.
+const StageRegistry& stage_registry();
+
+/// The families (one stages_*.cpp each).
+void register_io_stages(StageRegistry& r);
+void register_cloud_stages(StageRegistry& r);
+void register_mesh_stages(StageRegistry& r);
+void register_denoise_stages(StageRegistry& r);
+void register_scan_stages(StageRegistry& r);
+void register_report_stages(StageRegistry& r);
+
+/// Binds `options` of type O through its schema; `given` receives the names set explicitly.
+template <class O>
+void bind_options(Binder& b, O& options, std::vector<std::string>* given = nullptr) {
+  BoundOptions<O> set(options, O::schema());
+  b.options(set);
+  if (given)
+    for (std::size_t i = 0; i < set.size(); ++i)
+      if (set.given(set.info(i).name)) given->push_back(set.info(i).name);
+}
+
+}  // namespace scanmesh::detail

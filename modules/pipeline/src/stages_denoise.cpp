@@ -1,0 +1,78 @@
+// mesh.denoise and mesh.noise.
+#include <cstdio>
+
+#include "scanmesh/add_noise.h"
+#include "scanmesh/auto_denoise.h"
+#include "scanmesh/denoise.h"
+#include "scanmesh/noise_analysis.h"
+#include "stage.h"
+
+namespace scanmesh::detail {
+namespace {
+
+struct DenoiseStage : Stage {
+  DenoiseOptions o;
+  std::vector<std::string> given;  // explicit values win over `auto`
+  void bind(Binder& b) override { bind_options(b, o, &given); }
+  void run(Data& d, RunContext& ctx) override {
+    Mesh& m = need_mesh(d, "mesh.denoise");
+    if (!d.before) d.before = m;
+    const auto* progress = &ctx.options->progress;
+    const ProgressCallback report_progress = [progress](int done, int total) {
+      if (*progress) (*progress)("mesh.denoise", done, total);
+    };
+    char buf[640];
+    if (!o.automatic) {
+      const double plane = analyse_noise(m).exact_plane_fraction;
+      if (plane >= 0.1 && o.iterations > 0) {
+        std::snprintf(buf, sizeof buf,
+                      "mesh.denoise: %.0f%% of the vertices lie exactly in the plane of their faces: the mesh looks noise-free "
+                      "(a CAD tessellation?); denoising may only disturb its triangles (auto: true would leave it alone)",
+                      100.0 * plane);
+        ctx.warnings.emplace_back(buf);
+      }
+      const DenoiseReport r = denoise(m, o, report_progress);
+      std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, %d iterations, radius factor %.3g", o.sigma_s, o.lambda, r.iterations,
+                    o.radius_factor);
+      details = buf;
+      return;
+    }
+    const AutoReport a = denoise_auto(m, o, given, {}, report_progress);
+    std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iterations (%s), radius factor %.3g; check %s",
+                  a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
+                  a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
+    details = buf;
+    decision_text = {{"mode", a.mode}, {"reason", a.reason}, {"stop_reason", a.run.stop_reason}, {"check", a.check}};
+    decision_numbers = {{"noise_level", a.noise_level},
+                        {"noise", a.noise},
+                        {"exact_plane_fraction", a.exact_plane_fraction},
+                        {"isolated_outlier_share", a.impulsive_share},
+                        {"soft_crease_share", a.crease_share},
+                        {"sigma_s", a.options.sigma_s},
+                        {"lambda", a.options.lambda},
+                        {"radius_factor", a.options.radius_factor},
+                        {"iterations", static_cast<double>(a.run.iterations)},
+                        {"probe_iterations", static_cast<double>(a.probe_iterations)},
+                        {"displacement", a.run.displacement}};
+    if (a.check != "passed" && a.check != "not needed")
+      ctx.warnings.push_back("mesh.denoise: the result check ended the run early (" + a.check + "); the last iteration that passed is kept");
+  }
+};
+
+struct NoiseStage : Stage {
+  NoiseOptions o;
+  void bind(Binder& b) override { bind_options(b, o); }
+  void run(Data& d, RunContext&) override {
+    add_noise(need_mesh(d, "mesh.noise"), o);
+    d.seed = o.seed;
+  }
+};
+
+}  // namespace
+
+void register_denoise_stages(StageRegistry& r) {
+  r.add("mesh.denoise", [] { return std::make_unique<DenoiseStage>(); });
+  r.add("mesh.noise", [] { return std::make_unique<NoiseStage>(); });
+}
+
+}  // namespace scanmesh::detail
