@@ -7,6 +7,8 @@
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/mesh_cloud.h"
 #include "scanmesh/triangulate.h"
 
 using namespace scanmesh;
@@ -112,4 +114,60 @@ TEST(Cleanup, SplitsABowtieVertexAndOrientsClosedPiecesOutwards) {
   for (auto& f : cube.faces) std::swap(f[1], f[2]);  // inside out
   clean_mesh(cube, CleanupOptions{});
   EXPECT_NEAR(signed_volume(cube), 1.0, 1e-12);
+}
+
+TEST(MeshCloud, AutoKeepsGreedyProjectionWhereItCoversTheScan) {
+  PointCloud c = sampled_sphere(4000);
+  estimate_normals(c, NormalOptions{});
+  MeshingDecision d;
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(c), &d);
+  EXPECT_EQ(d.method, MeshMethod::gp3) << d.reason;
+  EXPECT_EQ(m.num_vertices(), c.size());
+  EXPECT_GE(d.fit.coverage, 0.99);
+}
+
+TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {
+  // A sparse, unevenly sampled sphere with its true normals (a complete object from a few views):
+  // greedy projection leaves holes between the clusters; Poisson closes them.
+  PointCloud c;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int i = 0; i < 700; ++i) {
+    Vec3 p(g(rng), g(rng), g(rng));
+    p.normalize();
+    c.points.push_back(p);
+    c.normals.push_back(p);
+  }
+  c.width = static_cast<int>(c.size());
+  MeshingDecision d;
+  const CloudScale s = measure_scale(c);
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
+  // Whatever won represents the points at least as well as greedy projection alone.
+  const ScanFit gp3 = measure_scan_fit(triangulate_gp3(c, Gp3Options{}, s), c.points, s.spacing);
+  EXPECT_GE(d.fit.coverage, gp3.coverage);
+  EXPECT_LE(d.fit.holes, gp3.holes);
+  if (gp3.holes > 0) {
+    EXPECT_EQ(d.method, MeshMethod::poisson) << d.reason;
+  }
+  EXPECT_FALSE(m.faces.empty());
+  EXPECT_NE(d.reason.find("covers"), std::string::npos);
+}
+
+TEST(MeshCloud, OrganizedCloudsAreMeshedOnTheirGrid) {
+  PointCloud c;
+  c.width = 30;
+  c.height = 20;
+  for (int j = 0; j < c.height; ++j)
+    for (int i = 0; i < c.width; ++i) c.points.emplace_back(0.01 * i, 0.01 * j, 1.0);
+  c.sensor_origin = Vec3(0.15, 0.1, 0.0);
+  MeshingDecision d;
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(c), &d);
+  EXPECT_EQ(d.method, MeshMethod::organized);
+  EXPECT_EQ(m.num_faces(), 2u * 29u * 19u);
+  MeshMethodOptions organized;
+  organized.method = MeshMethod::organized;
+  PointCloud list = c;
+  list.width = static_cast<int>(list.size());
+  list.height = 1;
+  EXPECT_THROW(mesh_cloud(list, organized, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(list)), InputError);
 }

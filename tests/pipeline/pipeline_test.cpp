@@ -110,7 +110,9 @@ TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {
   Mesh m = read_mesh(path("in.ply"));
   const AutoReport a = denoise_auto(m, DenoiseOptions{});
   ASSERT_FALSE(a.mode.empty());
-  EXPECT_NE(json.find("\"decision\": {\"mode\": \"" + a.mode + "\""), std::string::npos) << json;
+  const std::size_t decision = json.find("\"decision\": {");
+  ASSERT_NE(decision, std::string::npos) << json;
+  EXPECT_NE(json.find("\"mode\": \"" + a.mode + "\"", decision), std::string::npos) << json;
   for (const char* key : {"\"noise_level\": ", "\"soft_crease_share\": ", "\"stop_reason\": ", "\"check\": "})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   EXPECT_NE(html.find("Decision of mesh.denoise"), std::string::npos);
@@ -206,4 +208,29 @@ TEST(PipelineSchema, EveryStageTypeIsListed) {
     if (t != "mesh.denoise") continue;
     for (const char* k : {"sigma_s", "lambda", "iterations", "auto"}) EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
   }
+}
+
+TEST_F(PipelineTest, AMeshThatLeavesItsScanOutIsDegradedNotOk) {
+  // A flat patch of 400 points and 40 stray points far above it: no surface reaches the strays, so the
+  // mesh leaves 9% of the points out. The result is written, but its status says so, with the reason.
+  std::string patch;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) patch += std::to_string(i * 0.01) + " " + std::to_string(j * 0.01) + " 0\n";
+  std::string xyz = patch;
+  for (int k = 0; k < 40; ++k) xyz += std::to_string(0.005 * k) + " " + std::to_string(0.1 + 0.003 * (k % 7)) + " " + std::to_string(0.5 + 0.02 * k) + "\n";
+  write("c.xyz", xyz);
+  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n  - type: report\n    figures: false\n  - " +
+                           path("out.ply") + "\n";
+  const PipelineResult r = Pipeline::load(write("p.yaml", yaml), {}).run();
+  EXPECT_EQ(r.status, "degraded");
+  ASSERT_FALSE(r.problems.empty());
+  EXPECT_NE(r.problems[0].find("leaves"), std::string::npos) << r.problems[0];
+  EXPECT_TRUE(fs::exists(path("out.ply")));
+  const std::string json = read_file(report_paths(path("out.ply")).json);
+  EXPECT_NE(json.find("\"status\": \"degraded\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"scan_fit\": {"), std::string::npos);
+  // A patch that meshes completely is ok.
+  write("good.xyz", patch);
+  const std::string good = "pipeline:\n  - " + path("good.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n  - " + path("good.ply") + "\n";
+  EXPECT_EQ(Pipeline::load(write("g.yaml", good), {}).run().status, "ok");
 }

@@ -1,19 +1,25 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_common.h"
 #include "scanmesh/atomic_file.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/cloud_io.h"
 #include "scanmesh/mesh_io.h"
+#include "scanmesh/neighbourhoods.h"
+#include "scanmesh/scan_fit.h"
 
 namespace scanmesh::cli {
 
 int run_eval(const std::vector<std::string>& args) {
   po::options_description o("options");
   o.add_options()
-    ("reference,r", po::value<std::string>(), "ground-truth mesh; MSAE and flips need the same faces as MESH")
+    ("reference,r", po::value<std::string>(),
+     "ground-truth mesh (MSAE and flips need the same faces as MESH), or the point cloud MESH was made from "
+     "(any cloud format): distances from its points to the mesh, coverage, holes and pieces")
     ("json", po::value<std::string>(), "also write the metrics as JSON to this file")
     ("quiet,q", po::bool_switch(), "print nothing but errors (use with --json)");
   po::variables_map vm;
@@ -34,12 +40,19 @@ int run_eval(const std::vector<std::string>& args) {
   std::vector<std::string> warnings;
   const Mesh mesh = read_mesh(path, &warnings);
   std::unique_ptr<Mesh> reference;
-  if (vm.count("reference")) reference = std::make_unique<Mesh>(read_mesh(vm["reference"].as<std::string>(), &warnings));
+  std::unique_ptr<PointCloud> cloud;
+  if (vm.count("reference")) {
+    const std::string ref = vm["reference"].as<std::string>();
+    if (holds_cloud(ref)) cloud = std::make_unique<PointCloud>(read_cloud(ref, &warnings));
+    else reference = std::make_unique<Mesh>(read_mesh(ref, &warnings));
+  }
   print_warnings(warnings, quiet);
   if (reference && reference->num_faces() != mesh.num_faces() && !quiet)
     std::cerr << "warning: the reference has " << reference->num_faces() << " faces and the mesh " << mesh.num_faces()
               << "; MSAE and flips need the same faces and are not reported\n";
   const MeshMetrics m = evaluate(mesh, reference.get());
+  std::optional<ScanFit> fit;
+  if (cloud) fit = measure_scan_fit(mesh, cloud->points, measure_scale(*cloud).spacing);
   if (!quiet) {
     const auto& t = m.topology;
     std::printf("mesh:       %s\n", path.c_str());
@@ -58,8 +71,18 @@ int run_eval(const std::vector<std::string>& args) {
                   m.hausdorff_from_reference);
       if (m.volume_change) std::printf("volume:     %+.4f%% change\n", 100.0 * *m.volume_change);
     }
+    if (fit) {
+      std::printf("cloud:      %zu points, mean spacing %.6g\n", fit->points, fit->spacing);
+      std::printf("coverage:   %.2f%% of the points within 2 spacings of the mesh (%zu left out)\n", 100.0 * fit->coverage,
+                  fit->points_left_out);
+      std::printf("distance:   points to mesh: mean %.6g, 95th percentile %.6g, max %.6g\n", fit->distance_mean, fit->distance_p95,
+                  fit->distance_max);
+      std::printf("loops:      %zu rims, %zu holes (largest %.4g around), %zu gaps in the data; %zu pieces (main %.1f%% of faces)\n",
+                  fit->rims, fit->holes, fit->largest_hole, fit->gaps, fit->pieces, 100.0 * fit->main_piece_share);
+      for (const auto& p : scan_fit_problems(*fit)) std::printf("problem:    %s\n", p.c_str());
+    }
   }
-  if (vm.count("json")) write_file_atomically(vm["json"].as<std::string>(), metrics_json(m));
+  if (vm.count("json")) write_file_atomically(vm["json"].as<std::string>(), metrics_json(m, fit ? &*fit : nullptr));
   return kOk;
 }
 

@@ -9,7 +9,7 @@
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
 #include "scanmesh/cloud_io.h"
-#include "scanmesh/triangulate.h"
+#include "scanmesh/mesh_cloud.h"
 
 namespace scanmesh::cli {
 namespace {
@@ -45,7 +45,7 @@ int run_mesh(const std::vector<std::string>& args) {
     ("keep-normals", po::bool_switch(), "use the normals stored in the file instead of estimating them")
     ("radius", po::value<std::string>()->default_value("5*spacing"), "gp3: longest edge a triangle may have")
     ("max-edge", po::value<std::string>()->default_value("6*spacing"), "organized: longest edge (larger depth jumps are not bridged)")
-    ("depth", po::value<int>()->default_value(8), "poisson: octree depth (4..12)")
+    ("depth", po::value<int>()->default_value(0), "poisson: octree depth (4..12; 0 = from the point spacing)")
     ("trim", po::value<std::string>()->default_value("3*spacing"), "poisson: drop surface farther than this from the points")
     ("watertight", po::bool_switch(), "poisson: keep the closed surface")
     ("min-component", po::value<int>()->default_value(10), "remove pieces with fewer faces (0 = keep all)")
@@ -107,11 +107,11 @@ int run_mesh(const std::vector<std::string>& args) {
     estimate_normals(cloud, no);
     clock.done("normals", cloud.sensor_origin ? "oriented towards the sensor" : "oriented by propagation");
   }
-  Mesh mesh;
-  if (organized_method) mesh = triangulate_organized(cloud, organized, scale);
-  else if (method == "poisson") mesh = triangulate_poisson(cloud, poisson, scale);
-  else mesh = triangulate_gp3(cloud, gp3, scale);
-  clock.done(organized_method ? "organized" : method == "poisson" ? "poisson" : "gp3", std::to_string(mesh.num_faces()) + " faces");
+  MeshMethodOptions mo;
+  MeshMethodOptions::schema().find("method")->set(mo, method);
+  MeshingDecision decision;
+  Mesh mesh = mesh_cloud(cloud, mo, gp3, organized, poisson, scale, &decision);
+  clock.done(method_name(decision.method), std::to_string(mesh.num_faces()) + " faces: " + decision.reason);
   if (mesh.faces.empty()) throw InputError(in + ": meshing produced no triangles (too few points, or try a larger --radius)");
   const CleanupReport cr = clean_mesh(mesh, cleanup, cloud.sensor_origin);
   clock.done("cleanup", std::to_string(cr.degenerate_faces + cr.duplicate_faces + cr.nonmanifold_faces + cr.small_component_faces) +

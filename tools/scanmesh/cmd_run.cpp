@@ -18,6 +18,8 @@ int run_pipeline(const std::vector<std::string>& args) {
     ("set", po::value<std::vector<std::string>>()->composing(),
      "TAG.OPTION=VALUE: override a stage option (repeatable); a stage's type works as TAG when it is unique")
     ("validate", po::bool_switch(), "check the pipeline (syntax, stages, options, files) without running it")
+    ("strict", po::bool_switch(), "exit with code 1 when the result is degraded (written, but the mesh leaves points of "
+     "its scan out, has holes where the scan has data, or faces of opposite orientation); the sidecar says why")
     ("skip-existing", po::bool_switch(), "do nothing if the output exists and its report sidecar (if any) says status ok")
     ("threads", po::value<int>()->default_value(0), "threads (0 = all cores); outputs do not depend on it")
     ("quiet,q", po::bool_switch(), "print errors only");
@@ -63,6 +65,13 @@ int run_pipeline(const std::vector<std::string>& args) {
     }
   }
   const PipelineResult r = pipeline.run();
+  if (r.status != "ok") {
+    for (const auto& p : r.problems) std::fprintf(stderr, "degraded: %s\n", p.c_str());
+    if (vm["strict"].as<bool>()) {
+      std::fprintf(stderr, "scanmesh run: error: the result is %s (--strict); written to %s\n", r.status.c_str(), r.output.c_str());
+      return kBadInput;
+    }
+  }
   if (!quiet) {
     std::fprintf(stderr, "[done, %.2f s] -> %s\n", r.seconds, r.output.c_str());
     if (!r.report_files.empty()) {

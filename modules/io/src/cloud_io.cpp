@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -78,6 +79,19 @@ void check_points(PointCloud& cloud, const std::string& file) {
 
 bool is_cloud_extension(const std::string& ext) {
   return ext == ".pcd" || ext == ".ply" || ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".pts";
+}
+
+bool holds_cloud(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".ply") return is_cloud_extension(ext);
+  const std::string head = read_file_head(path, 4096);
+  for (const char* element : {"element face ", "element tristrips "}) {
+    const std::size_t at = head.find(element);
+    if (at != std::string::npos && head.compare(at + std::strlen(element), 2, "0\n") != 0 &&
+        head.compare(at + std::strlen(element), 3, "0\r\n") != 0)
+      return false;
+  }
+  return true;
 }
 
 PointCloud decode_cloud(std::string_view data, const std::string& file, std::vector<std::string>* warnings,

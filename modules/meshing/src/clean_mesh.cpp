@@ -84,6 +84,92 @@ std::size_t split_nonmanifold_vertices(Mesh& m) {
   return split;
 }
 
+// Face pieces through manifold edges: small pieces removed; with o.orient every piece made consistent by
+// a breadth-first walk and turned outwards (closed) or towards the sensor (open).
+void orient_pieces(Mesh& m, const CleanupOptions& o, const std::optional<Vec3>& sensor, CleanupReport& r) {
+  const Topology t = build_topology(m);
+  // Face components through manifold edges.
+  std::vector<int> comp(m.faces.size(), -1);
+  std::vector<std::vector<int>> members;
+  for (std::size_t s = 0; s < m.faces.size(); ++s) {
+    if (comp[s] >= 0) continue;
+    const int id = static_cast<int>(members.size());
+    members.emplace_back();
+    comp[s] = id;
+    std::vector<int> queue{static_cast<int>(s)};
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const int f = queue[q];
+      members[id].push_back(f);
+      for (int k = 0; k < 3; ++k) {
+        const int e = t.face_edges[f][k];
+        if (t.edge_faces.size(e) != 2) continue;
+        const int g = t.edge_faces.begin(e)[0] == f ? t.edge_faces.begin(e)[1] : t.edge_faces.begin(e)[0];
+        if (comp[g] >= 0) continue;
+        comp[g] = id;
+        if (o.orient) {
+          // g must use the shared edge in the opposite direction to f.
+          const auto [a, b] = t.edges[e];
+          if (edge_direction(m.faces[f], a, b) == edge_direction(m.faces[g], a, b)) {
+            std::swap(m.faces[g][1], m.faces[g][2]);
+            ++r.flipped_faces;
+          }
+        }
+        queue.push_back(g);
+      }
+    }
+  }
+  std::vector<std::uint8_t> small(m.faces.size(), 0);
+  for (const auto& part : members) {
+    if (static_cast<int>(part.size()) < o.min_component_faces) {
+      for (int f : part) small[f] = 1;
+      r.small_component_faces += part.size();
+      continue;
+    }
+    if (!o.orient) continue;
+    // Whole-piece direction: closed pieces enclose positive volume; open ones face the sensor.
+    bool closed = true;
+    double volume = 0.0, facing = 0.0;
+    for (int f : part) {
+      const Face& x = m.faces[f];
+      for (int k = 0; k < 3; ++k) closed = closed && t.edge_faces.size(t.face_edges[f][k]) == 2;
+      volume += m.positions[x[0]].dot(m.positions[x[1]].cross(m.positions[x[2]]));
+      if (sensor) {
+        const Vec3 n = (m.positions[x[1]] - m.positions[x[0]]).cross(m.positions[x[2]] - m.positions[x[0]]);
+        const Vec3 c = (m.positions[x[0]] + m.positions[x[1]] + m.positions[x[2]]) / 3.0;
+        facing += n.dot(*sensor - c) > 0.0 ? 1.0 : -1.0;
+      }
+    }
+    const bool flip = closed ? volume < 0.0 : (sensor && facing < 0.0);
+    if (flip)
+      for (int f : part) {
+        std::swap(m.faces[f][1], m.faces[f][2]);
+        ++r.flipped_faces;
+      }
+  }
+  drop_faces(m, small);
+}
+
+// Edges whose two faces still run along them the same way (a fold: the walk reached the pair on two
+// paths that disagree). For each, the worse-shaped of its two faces.
+std::vector<std::uint8_t> fold_faces(const Mesh& m, std::size_t& edges) {
+  const Topology t = build_topology(m);
+  std::vector<std::uint8_t> drop(m.faces.size(), 0);
+  edges = 0;
+  for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    if (t.edge_faces.size(e) != 2) continue;
+    const auto [a, b] = t.edges[e];
+    const int f = t.edge_faces.begin(e)[0], g = t.edge_faces.begin(e)[1];
+    if (edge_direction(m.faces[f], a, b) != edge_direction(m.faces[g], a, b)) continue;
+    ++edges;
+    auto shape = [&](int x) {
+      const Face& y = m.faces[x];
+      return triangle_shape(m.positions[y[0]], m.positions[y[1]], m.positions[y[2]]);
+    };
+    drop[shape(f) >= shape(g) ? f : g] = 1;
+  }
+  return drop;
+}
+
 }  // namespace
 
 CleanupReport clean_mesh(Mesh& m, const CleanupOptions& o, const std::optional<Vec3>& sensor) {
@@ -119,76 +205,18 @@ CleanupReport clean_mesh(Mesh& m, const CleanupOptions& o, const std::optional<V
     r.split_vertices = split_nonmanifold_vertices(m);
   }
 
-  if (o.min_component_faces > 0 || o.orient) {
-    const Topology t = build_topology(m);
-    // Face components through manifold edges.
-    std::vector<int> comp(m.faces.size(), -1);
-    std::vector<std::vector<int>> members;
-    for (std::size_t s = 0; s < m.faces.size(); ++s) {
-      if (comp[s] >= 0) continue;
-      const int id = static_cast<int>(members.size());
-      members.emplace_back();
-      comp[s] = id;
-      std::vector<int> queue{static_cast<int>(s)};
-      for (std::size_t q = 0; q < queue.size(); ++q) {
-        const int f = queue[q];
-        members[id].push_back(f);
-        for (int k = 0; k < 3; ++k) {
-          const int e = t.face_edges[f][k];
-          if (t.edge_faces.size(e) != 2) continue;
-          const int g = t.edge_faces.begin(e)[0] == f ? t.edge_faces.begin(e)[1] : t.edge_faces.begin(e)[0];
-          if (comp[g] >= 0) continue;
-          comp[g] = id;
-          if (o.orient) {
-            // g must use the shared edge in the opposite direction to f.
-            const auto [a, b] = t.edges[e];
-            if (edge_direction(m.faces[f], a, b) == edge_direction(m.faces[g], a, b)) {
-              std::swap(m.faces[g][1], m.faces[g][2]);
-              ++r.flipped_faces;
-            }
-          }
-          queue.push_back(g);
-        }
-      }
-    }
-    std::vector<std::uint8_t> small(m.faces.size(), 0);
-    for (const auto& part : members) {
-      if (static_cast<int>(part.size()) < o.min_component_faces) {
-        for (int f : part) small[f] = 1;
-        r.small_component_faces += part.size();
-        continue;
-      }
-      if (!o.orient) continue;
-      // Whole-piece direction: closed pieces enclose positive volume; open ones face the sensor.
-      bool closed = true;
-      double volume = 0.0, facing = 0.0;
-      for (int f : part) {
-        const Face& x = m.faces[f];
-        for (int k = 0; k < 3; ++k) closed = closed && t.edge_faces.size(t.face_edges[f][k]) == 2;
-        volume += m.positions[x[0]].dot(m.positions[x[1]].cross(m.positions[x[2]]));
-        if (sensor) {
-          const Vec3 n = (m.positions[x[1]] - m.positions[x[0]]).cross(m.positions[x[2]] - m.positions[x[0]]);
-          const Vec3 c = (m.positions[x[0]] + m.positions[x[1]] + m.positions[x[2]]) / 3.0;
-          facing += n.dot(*sensor - c) > 0.0 ? 1.0 : -1.0;
-        }
-      }
-      const bool flip = closed ? volume < 0.0 : (sensor && facing < 0.0);
-      if (flip)
-        for (int f : part) {
-          std::swap(m.faces[f][1], m.faces[f][2]);
-          ++r.flipped_faces;
-        }
-    }
-    drop_faces(m, small);
-  }
-
+  if (o.min_component_faces > 0 || o.orient) orient_pieces(m, o, sensor, r);
   if (o.orient) {
-    const Topology t = build_topology(m);
-    for (std::size_t e = 0; e < t.edges.size(); ++e) {
-      if (t.edge_faces.size(e) != 2) continue;
-      const auto [a, b] = t.edges[e];
-      if (edge_direction(m.faces[t.edge_faces.begin(e)[0]], a, b) == edge_direction(m.faces[t.edge_faces.begin(e)[1]], a, b))
-        ++r.unorientable_edges;
+    // Folds (overlapping triangles from greedy projection) cannot be oriented: remove the worse face of
+    // each, orient again, a few rounds; what remains is reported.
+    for (int round = 0; round < 4; ++round) {
+      std::size_t edges = 0;
+      const std::vector<std::uint8_t> drop = fold_faces(m, edges);
+      r.unorientable_edges = edges;
+      if (edges == 0 || round == 3) break;
+      for (auto x : drop) r.fold_faces += x;
+      drop_faces(m, drop);
+      orient_pieces(m, o, sensor, r);
     }
   }
 

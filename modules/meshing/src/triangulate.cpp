@@ -9,6 +9,7 @@
 #include <pcl/surface/organized_fast_mesh.h>
 #include <pcl/surface/poisson.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "scanmesh/errors.h"
@@ -61,6 +62,24 @@ Mesh mesh_from_indices(const PointCloud& cloud, const std::vector<int>& index, c
 
 }  // namespace
 
+double pixel_pitch(const PointCloud& cloud, const Vec3& eye) {
+  std::vector<double> ratios;
+  const int w = cloud.width, h = cloud.height;
+  const int stride = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(cloud.size()) / 20000.0)));
+  for (int r = 0; r + 1 < h; r += stride)
+    for (int c = 0; c + 1 < w; c += stride) {
+      const Vec3& p = cloud.points[static_cast<std::size_t>(r) * w + c];
+      if (!p.allFinite()) continue;
+      const double range = (p - eye).norm();
+      if (!(range > 0.0)) continue;
+      for (const Vec3* q : {&cloud.points[static_cast<std::size_t>(r) * w + c + 1], &cloud.points[static_cast<std::size_t>(r + 1) * w + c]})
+        if (q->allFinite()) ratios.push_back((*q - p).norm() / range);
+    }
+  if (ratios.empty()) return 0.0;
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  return ratios[ratios.size() / 2];
+}
+
 Mesh triangulate_gp3(const PointCloud& cloud, const Gp3Options& o, const CloudScale& scale) {
   std::vector<int> index;
   auto pc = with_normals(cloud, index);
@@ -95,21 +114,40 @@ Mesh triangulate_organized(const PointCloud& cloud, const OrganizedOptions& o, c
     const Vec3& p = cloud.points[i];
     pc->points[i] = pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
   }
-  const double max_edge = o.max_edge.resolve(scale.spacing, scale.spacing, scale.diagonal);
+  const Vec3 eye = cloud.sensor_origin.value_or(Vec3::Zero());
+  // The longest edge grows with the distance from the sensor, as the pixels' footprint does: max_edge
+  // (in spacings) is taken relative to the pixel pitch at each point's distance. The pitch (an angle) is
+  // the median over grid neighbours of their distance over their range. PCL's own distance-dependent limit
+  // would replace its shadow test, so the limit is applied to the triangles afterwards.
+  const double pitch = pixel_pitch(cloud, eye);
+  const double spacings = o.max_edge.unit == Length::Unit::spacing ? o.max_edge.value : 0.0;
+  const double fixed = spacings > 0.0 ? 0.0 : o.max_edge.resolve(scale.spacing, scale.spacing, scale.diagonal);
   pcl::OrganizedFastMesh<pcl::PointXYZ> ofm;
   ofm.setInputCloud(pc);
   ofm.setTrianglePixelSize(1);
   ofm.setTriangulationType(pcl::OrganizedFastMesh<pcl::PointXYZ>::TRIANGLE_ADAPTIVE_CUT);
-  ofm.setMaxEdgeLength(static_cast<float>(max_edge), 0.0f, 0.0f);
-  ofm.setAngleTolerance(static_cast<float>(o.max_view_angle_deg * kDegToRad));
+  // PCL's tolerance is the angle between an edge and the line of sight below which the edge counts as a
+  // shadow (a depth jump): a surface seen more obliquely than max_view_angle.
+  ofm.setAngleTolerance(static_cast<float>((90.0 - o.max_view_angle_deg) * kDegToRad));
   ofm.setDistanceTolerance(-1.0f);
-  if (cloud.sensor_origin) {
-    const Vec3& s = *cloud.sensor_origin;
-    ofm.setViewpoint(Eigen::Vector3f(static_cast<float>(s.x()), static_cast<float>(s.y()), static_cast<float>(s.z())));
-  }
+  ofm.setViewpoint(eye.cast<float>());
   ofm.storeShadowedFaces(false);
   std::vector<pcl::Vertices> polygons;
   ofm.reconstruct(polygons);
+  auto too_long = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3& p = cloud.points[a];
+    const Vec3& q = cloud.points[b];
+    const double limit = spacings > 0.0 ? spacings * pitch * std::max((p - eye).norm(), (q - eye).norm()) : fixed;
+    return (p - q).norm() > limit;
+  };
+  std::vector<pcl::Vertices> kept;
+  kept.reserve(polygons.size());
+  for (auto& poly : polygons) {
+    bool ok = poly.vertices.size() >= 3;
+    for (std::size_t k = 0; ok && k < poly.vertices.size(); ++k) ok = !too_long(poly.vertices[k], poly.vertices[(k + 1) % poly.vertices.size()]);
+    if (ok) kept.push_back(std::move(poly));
+  }
+  polygons = std::move(kept);
   // Keep only the finite points that faces use, renumbered in grid order.
   std::vector<int> index, remap(cloud.size(), -1);
   for (const auto& poly : polygons)
@@ -124,12 +162,26 @@ Mesh triangulate_organized(const PointCloud& cloud, const OrganizedOptions& o, c
   return mesh_from_indices(cloud, index, polygons);
 }
 
+int poisson_depth_for(const PointCloud& cloud, const CloudScale& scale) {
+  // Octree cells about one point spacing wide over the cloud's largest extent, within [5, 10].
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const Vec3& p : cloud.points)
+    if (p.allFinite()) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  const double extent = (hi - lo).maxCoeff();
+  if (!(extent > 0.0) || !(scale.spacing > 0.0)) return 8;
+  return std::clamp(static_cast<int>(std::ceil(std::log2(extent / scale.spacing))), 5, 10);
+}
+
 Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const CloudScale& scale) {
-  if (o.depth < 4 || o.depth > 12) throw UsageError("poisson: depth must be in [4, 12]; got " + std::to_string(o.depth));
+  if (o.depth != 0 && (o.depth < 4 || o.depth > 12))
+    throw UsageError("poisson: depth must be 0 (from the point spacing) or in [4, 12]; got " + std::to_string(o.depth));
   std::vector<int> index;
   auto pc = with_normals(cloud, index);
   pcl::Poisson<pcl::PointNormal> poisson;
-  poisson.setDepth(o.depth);
+  poisson.setDepth(o.depth > 0 ? o.depth : poisson_depth_for(cloud, scale));
   poisson.setThreads(1);
   poisson.setInputCloud(pc);
   pcl::PolygonMesh out;
@@ -154,27 +206,6 @@ Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const
     m.faces = std::move(kept);
   }
   return m;
-}
-
-Mesh triangulate(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
-                 const PoissonOptions& poisson, const CloudScale& scale, std::string* chosen) {
-  MeshMethod m = method.method;
-  std::string why;
-  if (m == MeshMethod::automatic) {
-    m = cloud.organized() ? MeshMethod::organized : MeshMethod::gp3;
-    why = cloud.organized() ? "organized cloud: organized meshing" : "unorganized cloud: greedy projection";
-  }
-  if (m == MeshMethod::organized && !cloud.organized())
-    throw InputError("organized meshing needs an organized cloud (a width x height grid); this one is a list of " +
-                     std::to_string(cloud.size()) + " points (use method gp3 or poisson)");
-  if (m != MeshMethod::organized && !cloud.has_normals()) estimate_normals(cloud, NormalOptions{});
-  if (chosen)
-    *chosen = !why.empty() ? why : m == MeshMethod::gp3 ? "greedy projection" : m == MeshMethod::organized ? "organized meshing" : "Poisson";
-  switch (m) {
-    case MeshMethod::organized: return triangulate_organized(cloud, organized, scale);
-    case MeshMethod::poisson: return triangulate_poisson(cloud, poisson, scale);
-    default: return triangulate_gp3(cloud, gp3, scale);
-  }
 }
 
 }  // namespace scanmesh

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "scanmesh/closest_point.h"
+#include "scanmesh/json.h"
 #include "scanmesh/neighbourhoods.h"
+#include "scanmesh/scan_fit.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/topology.h"
 
@@ -91,10 +92,17 @@ MeshMetrics evaluate(const Mesh& mesh, const Mesh* reference) {
     }
   if (finite > 0) m.quality_mean /= static_cast<double>(finite);
 
-  if (reference == nullptr) return m;
-  m.has_reference = true;
   FaceGeometry g, gr;
   compute_face_geometry(mesh.positions, mesh.faces, g);
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    if (topo.edge_faces.size(e) != 2) continue;
+    const int a = topo.edge_faces.begin(e)[0], b = topo.edge_faces.begin(e)[1];
+    m.manifold_edges.push_back(topo.edges[e]);
+    m.dihedral_deg.push_back(std::acos(std::clamp(g.normals[a].dot(g.normals[b]), -1.0, 1.0)) * 180.0 / kPi);
+  }
+
+  if (reference == nullptr) return m;
+  m.has_reference = true;
   m.same_connectivity = reference->faces == mesh.faces;
   if (m.same_connectivity) {
     compute_face_geometry(reference->positions, reference->faces, gr);
@@ -172,44 +180,41 @@ double scanned_coverage(const Mesh& mesh, const Mesh& reference, const std::vect
   return seen > 0 ? static_cast<double>(covered) / static_cast<double>(seen) : 0.0;
 }
 
-std::string metrics_json(const MeshMetrics& m, int indent) {
-  std::ostringstream o;
-  o.precision(10);
-  const std::string pad(static_cast<std::size_t>(indent), ' ');
-  const std::string pad2 = pad + pad;
-  o << "{\n";
-  o << pad << "\"topology\": {\"vertices\": " << m.topology.vertices << ", \"faces\": " << m.topology.faces
-    << ", \"edges\": " << m.topology.edges << ", \"boundary_edges\": " << m.topology.boundary_edges
-    << ", \"boundary_loops\": " << m.topology.boundary_loops << ", \"nonmanifold_edges\": " << m.topology.nonmanifold_edges
-    << ", \"components\": " << m.topology.components << ", \"isolated_vertices\": " << m.topology.isolated_vertices
-    << ", \"degenerate_faces\": " << m.topology.degenerate_faces << ", \"inconsistent_edges\": " << m.topology.inconsistent_edges
-    << ", \"nonfinite_vertices\": " << m.topology.nonfinite_vertices << "},\n";
-  o << pad << "\"bbox_diagonal\": " << m.bbox_diagonal << ",\n";
-  o << pad << "\"mean_edge_length\": " << m.mean_edge_length << ",\n";
-  o << pad << "\"quality_mean\": " << m.quality_mean << ",\n";
-  o << pad << "\"quality_max\": " << m.quality_max;
+void write_json(JsonWriter& w, const MeshMetrics& m, const ScanFit* fit) {
+  const TopologyStats& t = m.topology;
+  w.begin_object();
+  w.key("topology").begin_object();
+  w.field("vertices", t.vertices).field("faces", t.faces).field("edges", t.edges).field("boundary_edges", t.boundary_edges);
+  w.field("boundary_loops", t.boundary_loops).field("nonmanifold_edges", t.nonmanifold_edges).field("components", t.components);
+  w.field("isolated_vertices", t.isolated_vertices).field("degenerate_faces", t.degenerate_faces);
+  w.field("inconsistent_edges", t.inconsistent_edges).field("nonfinite_vertices", t.nonfinite_vertices);
+  w.end_object();
+  w.field("bbox_diagonal", m.bbox_diagonal).field("mean_edge_length", m.mean_edge_length);
+  w.field("quality_mean", m.quality_mean).field("quality_max", m.quality_max);
   if (m.has_reference) {
-    o << ",\n" << pad << "\"reference\": {\n";
-    if (m.same_connectivity) {
-      o << pad2 << "\"msae_deg\": " << m.msae_deg << ",\n";
-      o << pad2 << "\"flipped_faces\": " << m.flipped_faces << ",\n";
-    } else {
-      o << pad2 << "\"msae_deg\": null,\n" << pad2 << "\"flipped_faces\": null,\n";
-    }
-    o << pad2 << "\"ev\": " << m.ev << ",\n";
-    o << pad2 << "\"ev_relative\": " << m.ev_relative << ",\n";
-    o << pad2 << "\"distance_mean\": " << m.distance_mean << ",\n";
-    o << pad2 << "\"distance_rms\": " << m.distance_rms << ",\n";
-    o << pad2 << "\"hausdorff_to_reference\": " << m.hausdorff_to_reference << ",\n";
-    o << pad2 << "\"hausdorff_from_reference\": " << m.hausdorff_from_reference << ",\n";
-    o << pad2 << "\"hausdorff\": " << m.hausdorff << ",\n";
-    o << pad2 << "\"volume_change\": ";
-    if (m.volume_change) o << *m.volume_change;
-    else o << "null";
-    o << "\n" << pad << "}";
+    w.key("reference").begin_object();
+    w.key("msae_deg");
+    m.same_connectivity ? w.value(m.msae_deg) : w.null();
+    w.key("flipped_faces");
+    m.same_connectivity ? w.value(m.flipped_faces) : w.null();
+    w.field("ev", m.ev).field("ev_relative", m.ev_relative).field("distance_mean", m.distance_mean).field("distance_rms", m.distance_rms);
+    w.field("hausdorff_to_reference", m.hausdorff_to_reference).field("hausdorff_from_reference", m.hausdorff_from_reference);
+    w.field("hausdorff", m.hausdorff);
+    w.key("volume_change");
+    m.volume_change ? w.value(*m.volume_change) : w.null();
+    w.end_object();
   }
-  o << "\n}\n";
-  return o.str();
+  if (fit) {
+    w.key("scan_fit");
+    write_json(w, *fit);
+  }
+  w.end_object();
+}
+
+std::string metrics_json(const MeshMetrics& m, const ScanFit* fit) {
+  JsonWriter w;
+  write_json(w, m, fit);
+  return w.str();
 }
 
 }  // namespace scanmesh

@@ -10,6 +10,7 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/parallel.h"
 #include "scanmesh/report.h"
+#include "scanmesh/scan_fit.h"
 
 #ifndef SCANMESH_VERSION
 #define SCANMESH_VERSION "unknown"
@@ -74,6 +75,21 @@ PipelineResult Pipeline::run() {
       }
       if (!s.where.tag.empty()) tagged[s.where.tag] = data;
     }
+    // Does the mesh still represent the scan it was made from? (Measured once; the report shows it.)
+    std::optional<ScanFit> fit;
+    if (data.mesh && data.meshed && !data.meshed->points.empty()) {
+      fit = measure_scan_fit(*data.mesh, data.meshed->points, data.meshed->spacing, data.meshed->from_grid);
+      for (const std::string& p : scan_fit_problems(*fit)) {
+        ctx.problems.push_back(p);
+        ctx.warnings.push_back("degraded: " + p);
+      }
+      if (impl_->options.log) impl_->options.log("scan fit: " + scan_fit_summary(*fit));
+    }
+    report.scan_fit = fit ? &*fit : nullptr;
+    report.scan_points = fit ? &data.meshed->points : nullptr;
+    if (data.cloud && data.cloud->sensor_origin) report.sensor = data.cloud->sensor_origin;
+    report.status = ctx.problems.empty() ? "ok" : "degraded";
+    report.problems = ctx.problems;
     report.seed = data.seed;
     report.warnings = ctx.warnings;
     if (report_stage) result.report_files = report_stage->write_report(report, data, ctx);
@@ -89,6 +105,8 @@ PipelineResult Pipeline::run() {
     throw;
   }
   result.warnings = ctx.warnings;
+  result.status = ctx.problems.empty() ? "ok" : "degraded";
+  result.problems = ctx.problems;
   if (data.mesh) {
     const TopologyStats t = topology_stats(*data.mesh);
     char line[256];

@@ -29,6 +29,13 @@ struct Data {
   std::optional<Mesh> before;  ///< the mesh before the first vertex-moving stage, for the report
   std::optional<CloudScale> scale;
   std::uint64_t seed = 0;
+  /// The points the mesh was made from (set by the meshing stages), for the scan-fit check at the end.
+  struct Meshed {
+    std::vector<Vec3> points;
+    double spacing = 0.0;
+    bool from_grid = false;
+  };
+  std::optional<Meshed> meshed;
 };
 
 /// What every stage of one run shares.
@@ -36,6 +43,7 @@ struct RunContext {
   const PipelineOptions* options = nullptr;
   OutputTransaction* outputs = nullptr;  ///< every file the run writes, made visible when it succeeds
   std::vector<std::string> warnings;
+  std::vector<std::string> problems;  ///< why the result is degraded (status "degraded"); also warnings
   ReportInput* report = nullptr;
 };
 

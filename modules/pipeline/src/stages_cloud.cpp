@@ -1,5 +1,8 @@
 // cloud.*: point-cloud clean-up stages over clean_cloud.h.
+#include <cstdio>
+
 #include "scanmesh/clean_cloud.h"
+#include "scanmesh/dequantize.h"
 #include "stage.h"
 
 namespace scanmesh::detail {
@@ -35,6 +38,30 @@ struct MlsStage : Stage {
   void run(Data& d, RunContext&) override { smooth_mls(need_cloud(d, "cloud.mls"), o, scale_of(d)); }
 };
 
+struct DequantizeStage : Stage {
+  DequantizeOptions o;
+  void bind(Binder& b) override { bind_options(b, o); }
+  void run(Data& d, RunContext&) override {
+    const QuantizationReport r = dequantize_depth(need_cloud(d, "cloud.dequantize"), o);
+    char buf[256];
+    if (!r.organized) {
+      details = "not an organized cloud: nothing to do";
+    } else {
+      std::snprintf(buf, sizeof buf, "%zu distinct depths over %zu points, %.0f%% of neighbouring pixels equal, median step %.3g: %s",
+                    r.distinct_depths, r.valid_points, 100.0 * r.equal_neighbours, r.median_step,
+                    r.applied ? (std::to_string(r.moved) + " points moved onto ramps between the depth levels").c_str()
+                              : (r.quantized ? "quantized, left as is" : "not quantized, left as is"));
+      details = buf;
+    }
+    decision_text = {{"quantized", r.quantized ? "yes" : "no"}, {"dequantized", r.applied ? "yes" : "no"}};
+    decision_numbers = {{"distinct_depths", static_cast<double>(r.distinct_depths)},
+                        {"equal_neighbours", r.equal_neighbours},
+                        {"median_step", r.median_step},
+                        {"moved", static_cast<double>(r.moved)}};
+    if (r.applied) d.scale.reset();
+  }
+};
+
 template <class S>
 StageFactory make() {
   return [] { return std::make_unique<S>(); };
@@ -48,6 +75,7 @@ void register_cloud_stages(StageRegistry& r) {
   r.add("cloud.outliers", make<OutlierStage>());
   r.add("cloud.normals", make<NormalStage>());
   r.add("cloud.mls", make<MlsStage>());
+  r.add("cloud.dequantize", make<DequantizeStage>());
 }
 
 }  // namespace scanmesh::detail

@@ -34,14 +34,7 @@ struct ReaderStage : Stage {
   void bind(Binder& b) override { bind_options(b, o); }
   [[nodiscard]] std::vector<std::string> files_read() const override { return {o.filename}; }
   void run(Data& d, RunContext& ctx) override {
-    const std::string ext = lower_extension(o.filename);
-    bool as_mesh = is_mesh_extension(ext) && ext != ".ply";
-    if (ext == ".ply") {
-      // A PLY with faces is a mesh, without faces a cloud.
-      const std::string head = read_file_head(o.filename, 4096);
-      as_mesh = head.find("element face") != std::string::npos && head.find("element face 0\n") == std::string::npos;
-    }
-    if (as_mesh) {
+    if (!holds_cloud(o.filename)) {
       d.mesh = read_mesh(o.filename, &ctx.warnings);
       return;
     }

@@ -1,6 +1,6 @@
 // mesh.auto, mesh.gp3, mesh.organized, mesh.poisson and mesh.cleanup: cloud -> mesh with PCL, then repair.
 #include "scanmesh/clean_mesh.h"
-#include "scanmesh/triangulate.h"
+#include "scanmesh/mesh_cloud.h"
 #include "stage.h"
 
 namespace scanmesh::detail {
@@ -24,7 +24,18 @@ struct MeshStage : Stage {
     if (!fixed || method.method == MeshMethod::poisson) bind_options(b, poisson);
   }
   void run(Data& d, RunContext&) override {
-    d.mesh = triangulate(need_cloud(d, "meshing"), method, gp3, organized, poisson, scale_of(d), &details);
+    MeshingDecision decision;
+    PointCloud& cloud = need_cloud(d, "meshing");
+    d.mesh = mesh_cloud(cloud, method, gp3, organized, poisson, scale_of(d), &decision);
+    Data::Meshed meshed;
+    for (const Vec3& p : cloud.points)
+      if (p.allFinite()) meshed.points.push_back(p);
+    meshed.spacing = scale_of(d).spacing;
+    meshed.from_grid = decision.method == MeshMethod::organized;
+    d.meshed = std::move(meshed);
+    details = decision.reason;
+    decision_text = {{"method", method_name(decision.method)}, {"reason", decision.reason}};
+    decision_numbers = decision.numbers;
     if (d.mesh->faces.empty()) throw InputError("meshing produced no triangles (too few points, or try a larger gp3_radius)");
   }
 };
@@ -32,12 +43,16 @@ struct MeshStage : Stage {
 struct CleanupStage : Stage {
   CleanupOptions o;
   void bind(Binder& b) override { bind_options(b, o); }
-  void run(Data& d, RunContext&) override {
+  void run(Data& d, RunContext& ctx) override {
     const std::optional<Vec3> sensor = d.cloud ? d.cloud->sensor_origin : std::nullopt;
     Mesh& m = need_mesh(d, "mesh.cleanup");
     const CleanupReport r = clean_mesh(m, o, sensor);
-    details = std::to_string(r.degenerate_faces + r.duplicate_faces + r.nonmanifold_faces + r.small_component_faces) + " faces removed, " +
-              std::to_string(r.split_vertices) + " vertices split, " + std::to_string(r.flipped_faces) + " flipped";
+    details = std::to_string(r.degenerate_faces + r.duplicate_faces + r.nonmanifold_faces + r.small_component_faces + r.fold_faces) +
+              " faces removed (" + std::to_string(r.fold_faces) + " folded over their neighbours), " + std::to_string(r.split_vertices) +
+              " vertices split, " + std::to_string(r.flipped_faces) + " flipped";
+    if (r.unorientable_edges > 0)
+      ctx.warnings.push_back("mesh.cleanup: could not orient " + std::to_string(r.unorientable_edges) +
+                             " edges consistently (their faces fold over each other)");
     if (m.faces.empty()) throw InputError("no triangles left after clean-up (" + details + ")");
   }
 };

@@ -41,6 +41,10 @@ bool parse_conf_pose(std::string_view conf_text, const std::string& conf_file, c
 /// True if read_cloud understands this (lower-case, dotted) extension.
 bool is_cloud_extension(const std::string& extension);
 
+/// True if the file holds a point cloud rather than a mesh: by extension, and for PLY by whether its
+/// header announces faces (or triangle strips). Reads at most the first 4 KiB.
+bool holds_cloud(const std::string& path);
+
 /// A cloud encoded for a file with extension `extension`: ".pcd" (binary_compressed) or ".ply" (binary).
 std::string encode_cloud(const PointCloud& cloud, const std::string& extension);
 

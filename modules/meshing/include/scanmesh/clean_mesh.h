@@ -32,7 +32,8 @@ struct CleanupOptions {
 struct CleanupReport {
   std::size_t degenerate_faces = 0, duplicate_faces = 0, nonmanifold_faces = 0, split_vertices = 0;
   std::size_t small_component_faces = 0, unreferenced_vertices = 0, flipped_faces = 0;
-  std::size_t unorientable_edges = 0;  ///< edges still inconsistent afterwards (non-orientable pieces)
+  std::size_t fold_faces = 0;          ///< faces removed because they folded over their neighbours (unorientable)
+  std::size_t unorientable_edges = 0;  ///< edges still inconsistent afterwards
 };
 
 /// Cleans the mesh in place; unreferenced vertices are dropped (vertex properties follow). Deterministic.

@@ -49,45 +49,34 @@ struct OrganizedOptions {
     return s;
   }
 };
-/// Triangulates an organized cloud (width x height grid with NaN holes) pixel by pixel.
+/// Triangulates an organized cloud (width x height grid with NaN holes) pixel by pixel. A max_edge in
+/// spacings is relative to the pixel footprint at each point's range from the sensor.
 Mesh triangulate_organized(const PointCloud& cloud, const OrganizedOptions& options, const CloudScale& scale);
 
 struct PoissonOptions {
-  int depth = 8;
+  int depth = 0;
   Length trim_distance = Length::spacings(3.0);
   bool watertight = false;
   static const Schema<PoissonOptions>& schema() {
     static const Schema<PoissonOptions> s =
         Schema<PoissonOptions>()
-            .integer("poisson_depth", &PoissonOptions::depth, closed(4, 12), "octree levels", "Poisson: detail against time and memory.")
+            .integer("poisson_depth", &PoissonOptions::depth, closed(0, 12), "octree levels",
+                     "Poisson: detail against time and memory; 0 = cells about one point spacing wide (5 to 10 levels).")
             .length("poisson_trim", &PoissonOptions::trim_distance, at_least(0),
                     "Poisson: faces with a vertex farther than this from every input point are removed (invented surface).")
             .flag("watertight", &PoissonOptions::watertight, "Poisson: keep the closed surface, do not trim.");
     return s;
   }
 };
-/// Needs oriented normals. Creates new vertices (smooth surface), unlike gp3 and organized.
+/// Needs oriented normals. Creates new vertices (smooth surface), unlike gp3 and organized. Screened
+/// Poisson reconstruction (Kazhdan and Hoppe 2013, PCL's implementation), trimmed back to the data.
 Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& options, const CloudScale& scale);
 
-enum class MeshMethod { automatic, gp3, organized, poisson };
+/// The angle one pixel of an organized cloud spans, seen from `eye`: the median over grid neighbours of
+/// their distance over their range (0 if it cannot be measured).
+double pixel_pitch(const PointCloud& cloud, const Vec3& eye);
 
-/// The choice of method (mesh.auto and `scanmesh mesh`); each method's own options are its struct's.
-struct MeshMethodOptions {
-  MeshMethod method = MeshMethod::automatic;
-  static const Schema<MeshMethodOptions>& schema() {
-    static const Schema<MeshMethodOptions> s = Schema<MeshMethodOptions>().choice(
-        "method", &MeshMethodOptions::method,
-        {{"auto", MeshMethod::automatic}, {"gp3", MeshMethod::gp3}, {"organized", MeshMethod::organized}, {"poisson", MeshMethod::poisson}},
-        "auto: organized meshing for organized clouds, else greedy projection; gp3 keeps the measured points as "
-        "vertices; organized needs a grid cloud; poisson makes a smooth surface with new vertices.");
-    return s;
-  }
-};
-
-/// Triangulates with the chosen method (auto: organized for organized clouds, else gp3). Normals are
-/// estimated with default options if the method needs them and the cloud has none. `chosen` (if given)
-/// receives a line saying which method ran and why.
-Mesh triangulate(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
-                 const PoissonOptions& poisson, const CloudScale& scale, std::string* chosen = nullptr);
+/// The octree depth poisson_depth 0 stands for: cells about one point spacing wide, 5 to 10 levels.
+int poisson_depth_for(const PointCloud& cloud, const CloudScale& scale);
 
 }  // namespace scanmesh

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "scanmesh/json.h"
 #include "scanmesh/mesh.h"
 
 namespace scanmesh {
@@ -27,6 +28,11 @@ struct MeshMetrics {
   std::vector<double> face_quality;  ///< per face; +inf for degenerate faces
   double quality_mean = 0.0;         ///< over non-degenerate faces
   double quality_max = 0.0;
+
+  // Edges with exactly two faces and the angle between those faces' normals (0 = flat), for histograms
+  // and for drawing feature edges.
+  std::vector<std::array<int, 2>> manifold_edges;
+  std::vector<double> dihedral_deg;
 
   // Against the reference (present only when one is given).
   bool has_reference = false;
@@ -62,7 +68,12 @@ double nearest_face_normal_error(const Mesh& mesh, const Mesh& reference);
 /// within `radius` of a scan point, the fraction within `radius` of the mesh.
 double scanned_coverage(const Mesh& mesh, const Mesh& reference, const std::vector<Vec3>& scan, double radius);
 
-/// JSON object with the summary numbers (no per-element arrays).
-std::string metrics_json(const MeshMetrics& metrics, int indent = 2);
+struct ScanFit;
+
+/// The summary numbers (no per-element arrays) as a JSON object; with a scan fit (scan_fit.h) it becomes
+/// the object's "scan_fit" member.
+void write_json(JsonWriter& writer, const MeshMetrics& metrics, const ScanFit* fit = nullptr);
+/// The same as a whole JSON document (what `scanmesh eval --json` writes).
+std::string metrics_json(const MeshMetrics& metrics, const ScanFit* fit = nullptr);
 
 }  // namespace scanmesh

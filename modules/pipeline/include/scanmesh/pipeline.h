@@ -47,6 +47,10 @@ struct PipelineResult {
   std::string output;
   std::vector<std::string> report_files;  ///< sidecar, figures and page, if the pipeline has a report stage
   std::vector<std::string> warnings;      ///< what the stages warned about (also in the sidecar)
+  /// "ok", or "degraded" when the result is written but falls short (the mesh leaves points of its scan
+  /// out, has holes where the scan has data, or faces of opposite orientation); `problems` says how.
+  std::string status = "ok";
+  std::vector<std::string> problems;
   std::string summary;                    ///< what came out: "V vertices, F faces, B boundary loops, C components"
   double seconds = 0.0;
 };

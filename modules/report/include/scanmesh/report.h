@@ -13,6 +13,8 @@
 
 namespace scanmesh {
 
+struct ScanFit;
+
 struct ReportOptions {
   std::string reference;
   bool figures = true;
@@ -54,7 +56,11 @@ struct ReportInput {
   double input_spacing = 0.0, input_diagonal = 0.0;
   std::vector<StageRecord> stages;
   std::vector<std::string> warnings;
-  std::string status = "ok";
+  std::string status = "ok";         ///< ok, degraded or failed
+  std::vector<std::string> problems;  ///< why degraded
+  const ScanFit* scan_fit = nullptr;  ///< the final mesh against the points it was made from, if any
+  const std::vector<Vec3>* scan_points = nullptr;  ///< those points (same order as scan_fit's distances)
+  std::optional<Vec3> sensor;         ///< where the scanner was, when the input says so (views look from there)
   const Mesh* mesh = nullptr;    ///< the final mesh (null for cloud-only pipelines)
   const Mesh* before = nullptr;  ///< the mesh before denoising, same vertex order (optional)
   const Mesh* reference = nullptr;

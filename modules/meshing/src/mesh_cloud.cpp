@@ -1,0 +1,115 @@
+// Choosing the meshing method by measuring what each makes of the cloud.
+#include "scanmesh/mesh_cloud.h"
+
+#include <cstdio>
+
+#include "scanmesh/clean_cloud.h"
+#include "scanmesh/clean_mesh.h"
+#include "scanmesh/errors.h"
+
+namespace scanmesh {
+namespace {
+
+// How far a mesh falls short of representing the points: percentage points of coverage below the limit,
+// plus one for every hole the limits count. 0 = nothing wrong.
+double shortfall(const ScanFit& fit, const ScanFitLimits& limits) {
+  double s = std::max(0.0, limits.min_coverage - fit.coverage) * 100.0;
+  for (const auto& l : fit.loops)
+    s += l.kind == BoundaryLoopFit::Kind::hole && l.perimeter >= limits.min_hole_perimeter * fit.spacing ? 1.0 : 0.0;
+  return s;
+}
+
+std::vector<Vec3> finite_points(const PointCloud& cloud) {
+  std::vector<Vec3> out;
+  out.reserve(cloud.size());
+  for (const Vec3& p : cloud.points)
+    if (p.allFinite()) out.push_back(p);
+  return out;
+}
+
+std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
+  std::size_t big = 0;
+  for (const auto& l : f.loops) big += l.kind == BoundaryLoopFit::Kind::hole && l.perimeter >= limits.min_hole_perimeter * f.spacing ? 1 : 0;
+  char b[160];
+  std::snprintf(b, sizeof b, "covers %.1f%% of the points, %zu hole%s", 100.0 * f.coverage, big, big == 1 ? "" : "s");
+  return b;
+}
+
+}  // namespace
+
+const char* method_name(MeshMethod method) {
+  switch (method) {
+    case MeshMethod::gp3: return "gp3";
+    case MeshMethod::organized: return "organized";
+    case MeshMethod::poisson: return "poisson";
+    default: return "auto";
+  }
+}
+
+Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
+                const PoissonOptions& poisson, const CloudScale& scale, MeshingDecision* decision) {
+  MeshingDecision local;
+  MeshingDecision& d = decision ? *decision : local;
+  MeshMethod m = method.method;
+  if (m == MeshMethod::organized && !cloud.organized())
+    throw InputError("organized meshing needs an organized cloud (a width x height grid); this one is a list of " +
+                     std::to_string(cloud.size()) + " points (use method gp3 or poisson)");
+  if (m == MeshMethod::automatic && cloud.organized()) {
+    d.method = MeshMethod::organized;
+    d.reason = "organized cloud (" + std::to_string(cloud.width) + " x " + std::to_string(cloud.height) + " grid): organized meshing";
+    return triangulate_organized(cloud, organized, scale);
+  }
+  if (m != MeshMethod::organized && !cloud.has_normals()) estimate_normals(cloud, NormalOptions{});
+  if (m != MeshMethod::automatic) {
+    d.method = m;
+    d.reason = std::string("method ") + method_name(m) + " as configured";
+    switch (m) {
+      case MeshMethod::organized: return triangulate_organized(cloud, organized, scale);
+      case MeshMethod::poisson: return triangulate_poisson(cloud, poisson, scale);
+      default: return triangulate_gp3(cloud, gp3, scale);
+    }
+  }
+
+  // Unorganized: greedy projection first; Poisson only when greedy projection falls short. Each candidate
+  // is measured as the clean-up stage would leave it (folds and non-manifold pieces removed, oriented).
+  const ScanFitLimits limits;
+  const std::vector<Vec3> points = finite_points(cloud);
+  Mesh g = triangulate_gp3(cloud, gp3, scale);
+  clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
+  ScanFit gf = measure_scan_fit(g, points, scale.spacing);
+  const double gs = shortfall(gf, limits);
+  d.numbers = {{"gp3_coverage", gf.coverage}, {"gp3_holes", static_cast<double>(gf.holes)}, {"gp3_pieces", static_cast<double>(gf.pieces)}};
+  if (gs == 0.0) {
+    d.method = MeshMethod::gp3;
+    d.reason = "unorganized cloud: greedy projection " + fit_words(gf, limits);
+    d.fit = std::move(gf);
+    return g;
+  }
+  Mesh p;
+  try {
+    p = triangulate_poisson(cloud, poisson, scale);
+    clean_mesh(p, CleanupOptions{}, cloud.sensor_origin);
+  } catch (const InputError&) {
+    p = Mesh{};
+  }
+  ScanFit pf = measure_scan_fit(p, points, scale.spacing);
+  const double ps = p.faces.empty() ? 1e300 : shortfall(pf, limits);
+  d.numbers.insert(d.numbers.end(), {{"poisson_coverage", pf.coverage},
+                                     {"poisson_holes", static_cast<double>(pf.holes)},
+                                     {"poisson_pieces", static_cast<double>(pf.pieces)},
+                                     {"poisson_depth", static_cast<double>(poisson.depth > 0 ? poisson.depth : poisson_depth_for(cloud, scale))}});
+  // The smaller shortfall wins; on a tie greedy projection, which keeps the measured points.
+  if (ps < gs) {
+    d.method = MeshMethod::poisson;
+    d.reason = "greedy projection " + fit_words(gf, limits) + "; screened Poisson (trimmed) " + fit_words(pf, limits) + ": Poisson";
+    d.fit = std::move(pf);
+    return p;
+  }
+  d.method = MeshMethod::gp3;
+  d.reason = "greedy projection " + fit_words(gf, limits) + "; screened Poisson (trimmed) " +
+             (p.faces.empty() ? std::string("made nothing") : fit_words(pf, limits)) + ": greedy projection";
+  d.fit = std::move(gf);
+  return g;
+}
+
+}  // namespace scanmesh

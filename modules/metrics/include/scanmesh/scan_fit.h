@@ -1,0 +1,66 @@
+#pragma once
+// How well a mesh represents the points it was made from: what a scanning engineer checks before anything
+// else. Distances from the input points to the mesh (in scene units), the share of points the mesh leaves
+// out, the holes it has where the scan had data, its pieces and its orientation. The meshing stages use it
+// to choose a method and to say when a result is degraded; the report shows it.
+#include <string>
+#include <vector>
+
+#include "scanmesh/json.h"
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+/// One boundary loop of the mesh, classified.
+struct BoundaryLoopFit {
+  enum class Kind {
+    rim,   ///< the longest loop of an open piece: the edge of what the scanner saw
+    gap,   ///< encloses a region without points: the scan saw nothing there
+    hole,  ///< encloses measured points (or is too small to be a gap in the data): a meshing failure
+  };
+  Kind kind = Kind::rim;
+  double perimeter = 0.0;  ///< scene units
+  std::size_t vertices = 0;
+};
+
+struct ScanFit {
+  double spacing = 0.0;                ///< mean point spacing the thresholds are measured in
+  std::size_t points = 0;              ///< finite input points
+  std::vector<double> point_distance;  ///< each finite input point's distance to the mesh, scene units
+  double distance_mean = 0.0, distance_p95 = 0.0, distance_max = 0.0;
+  double coverage = 0.0;               ///< share of points within `coverage_radius` of the mesh
+  double coverage_radius = 0.0;        ///< scene units (2 spacings)
+  std::size_t points_left_out = 0;     ///< points farther than coverage_radius
+  std::size_t pieces = 0;              ///< connected pieces (through shared vertices)
+  double main_piece_share = 0.0;       ///< faces of the largest piece / all faces
+  std::vector<BoundaryLoopFit> loops;  ///< every closed boundary loop
+  std::size_t rims = 0, gaps = 0, holes = 0;
+  double largest_hole = 0.0;           ///< perimeter of the largest hole, scene units (0 if none)
+  std::size_t inconsistent_edges = 0;  ///< two-face edges whose faces disagree about the orientation
+};
+
+/// Measures `mesh` against the `points` it represents (non-finite points are skipped). `spacing` is the
+/// cloud's mean point spacing (> 0). With `from_grid` (the mesh was made on a sensor's pixel grid, which
+/// connects every pair of neighbouring pixels but across depth jumps, too oblique views and missing
+/// pixels) every loop that is not a rim is a gap of the scan. Parallel; independent of the thread count.
+ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid = false);
+
+/// What a result must reach not to count as degraded.
+struct ScanFitLimits {
+  double min_coverage = 0.97;          ///< share of points within 2 spacings of the mesh
+  double min_hole_perimeter = 8.0;     ///< spacings: shorter holes (a missing triangle or two) are not counted
+  std::size_t max_holes = 0;           ///< holes at least min_hole_perimeter long
+  std::size_t max_inconsistent_edges = 0;
+};
+
+/// The reasons `fit` does not meet `limits`, each one sentence with the numbers; empty when it does.
+std::vector<std::string> scan_fit_problems(const ScanFit& fit, const ScanFitLimits& limits = {});
+
+/// The summary numbers (no per-point distances) as a JSON object.
+void write_json(JsonWriter& writer, const ScanFit& fit);
+
+/// One line: "coverage 99.2% (12 points left out), distance mean 0.0012 / p95 0.0031 / max 0.02, 1 piece,
+/// 0 holes, 2 gaps".
+std::string scan_fit_summary(const ScanFit& fit);
+
+}  // namespace scanmesh

@@ -1,0 +1,243 @@
+// Scan fit: distances from the input points to the mesh, coverage, pieces, and boundary loops told apart
+// into rims, gaps in the data and holes left by the meshing.
+#include "scanmesh/scan_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include "scanmesh/closest_point.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/neighbourhoods.h"
+#include "scanmesh/topology.h"
+
+namespace scanmesh {
+namespace {
+
+// Piece label of every face (pieces joined through shared vertices), labels 0.. in order of first face.
+std::vector<int> face_pieces(const Mesh& mesh, std::size_t& count) {
+  std::vector<int> parent(mesh.num_vertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Face& f : mesh.faces)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(f[0]), b = find(f[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<int> label(mesh.num_vertices(), -1), out(mesh.num_faces());
+  count = 0;
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const int root = find(mesh.faces[f][0]);
+    if (label[root] < 0) label[root] = static_cast<int>(count++);
+    out[f] = label[root];
+  }
+  return out;
+}
+
+// Closed boundary loops, also through pinch vertices (where several boundary edges meet, which
+// Topology::boundary_loops does not chain): boundary edges directed by their face, then split into cycles
+// by always leaving a vertex on its lowest unused outgoing boundary edge. Chains that do not close (faces
+// of opposite orientation) are dropped.
+std::vector<std::vector<int>> closed_boundary_loops(const Mesh& mesh, const Topology& topo) {
+  std::vector<std::vector<std::pair<int, int>>> out(mesh.num_vertices());  // (target, edge id)
+  std::size_t id = 0;
+  for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+    if (topo.edge_faces.size(e) != 1) continue;
+    const Face& f = mesh.faces[topo.edge_faces.begin(e)[0]];
+    const auto [a, b] = topo.edges[e];
+    bool ab = false;
+    for (int k = 0; k < 3; ++k) ab = ab || (f[k] == a && f[(k + 1) % 3] == b);
+    // The face runs a -> b along the edge; the boundary is walked the other way round, b -> a.
+    if (ab) out[b].emplace_back(a, static_cast<int>(id++));
+    else out[a].emplace_back(b, static_cast<int>(id++));
+  }
+  for (auto& o : out) std::sort(o.begin(), o.end());
+  std::vector<char> used(id, 0);
+  std::vector<std::size_t> next_out(mesh.num_vertices(), 0);
+  std::vector<std::vector<int>> loops;
+  for (std::size_t start = 0; start < mesh.num_vertices(); ++start) {
+    while (next_out[start] < out[start].size()) {
+      std::vector<int> loop;
+      int v = static_cast<int>(start);
+      bool closed = false;
+      while (true) {
+        std::size_t& k = next_out[v];
+        while (k < out[v].size() && used[out[v][k].second]) ++k;
+        if (k == out[v].size()) break;
+        used[out[v][k].second] = 1;
+        loop.push_back(v);
+        v = out[v][k].first;
+        if (v == static_cast<int>(start)) {
+          closed = true;
+          break;
+        }
+      }
+      if (closed && loop.size() >= 3) loops.push_back(std::move(loop));
+    }
+  }
+  return loops;
+}
+
+}  // namespace
+
+ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid) {
+  ScanFit fit;
+  fit.spacing = spacing;
+  fit.coverage_radius = 2.0 * spacing;
+  std::vector<Vec3> finite;
+  finite.reserve(points.size());
+  for (const Vec3& p : points)
+    if (p.allFinite()) finite.push_back(p);
+  fit.points = finite.size();
+  if (mesh.faces.empty() || finite.empty()) {
+    fit.point_distance.assign(finite.size(), std::numeric_limits<double>::infinity());
+    fit.points_left_out = finite.size();
+    return fit;
+  }
+
+  // Distances of the points to the surface.
+  {
+    const ClosestPointIndex index(mesh);
+    fit.point_distance.resize(finite.size());
+    const auto n = static_cast<long>(finite.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long i = 0; i < n; ++i) fit.point_distance[i] = index.closest(finite[i]).distance;
+  }
+  std::vector<double> sorted = fit.point_distance;
+  std::sort(sorted.begin(), sorted.end());
+  fit.distance_mean = std::accumulate(sorted.begin(), sorted.end(), 0.0) / static_cast<double>(sorted.size());
+  fit.distance_p95 = sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size())))];
+  fit.distance_max = sorted.back();
+  for (double d : fit.point_distance) fit.points_left_out += d > fit.coverage_radius ? 1 : 0;
+  fit.coverage = 1.0 - static_cast<double>(fit.points_left_out) / static_cast<double>(finite.size());
+
+  // Pieces.
+  const std::vector<int> piece = face_pieces(mesh, fit.pieces);
+  std::vector<std::size_t> piece_faces(fit.pieces, 0);
+  for (int p : piece) ++piece_faces[p];
+  fit.main_piece_share = static_cast<double>(*std::max_element(piece_faces.begin(), piece_faces.end())) /
+                         static_cast<double>(mesh.num_faces());
+
+  // Boundary loops: the longest of each piece is its rim; another loop is a gap when the region it
+  // encloses holds no points (the scanner saw nothing there), else a hole the meshing left. The region is
+  // probed at the loop's centroid and halfway from there to each corner: a probe with an input point
+  // within 1.5 spacings that the mesh does not cover means measured surface inside the loop. A loop too
+  // small to enclose an empty region (every probe within 1.5 spacings of a point) is a hole as well.
+  const Topology topo = build_topology(mesh);
+  fit.inconsistent_edges = topology_stats(mesh).inconsistent_edges;
+  std::vector<int> rim_of_piece(fit.pieces, -1);
+  std::vector<double> rim_length(fit.pieces, -1.0);
+  const std::vector<std::vector<int>> loops = closed_boundary_loops(mesh, topo);
+  for (const auto& loop : loops) {
+    BoundaryLoopFit b;
+    b.vertices = loop.size();
+    for (std::size_t k = 0; k < loop.size(); ++k) b.perimeter += (mesh.positions[loop[k]] - mesh.positions[loop[(k + 1) % loop.size()]]).norm();
+    fit.loops.push_back(b);
+    const int p = piece[topo.vertex_faces.begin(loop.front())[0]];
+    if (b.perimeter > rim_length[p]) {
+      rim_length[p] = b.perimeter;
+      rim_of_piece[p] = static_cast<int>(fit.loops.size() - 1);
+    }
+  }
+  std::vector<char> is_rim(fit.loops.size(), 0);
+  for (int r : rim_of_piece)
+    if (r >= 0) is_rim[r] = 1;
+  // Probes of all non-rim loops, answered in one batch.
+  std::vector<Vec3> probes;
+  std::vector<std::size_t> probe_start(fit.loops.size() + 1, 0);
+  for (std::size_t i = 0; i < fit.loops.size(); ++i) {
+    probe_start[i] = probes.size();
+    if (is_rim[i] || from_grid) continue;
+    const auto& loop = loops[i];
+    Vec3 c = Vec3::Zero();
+    for (int v : loop) c += mesh.positions[v];
+    c /= static_cast<double>(loop.size());
+    probes.push_back(c);
+    const std::size_t step = std::max<std::size_t>(1, loop.size() / 16);
+    for (std::size_t k = 0; k < loop.size(); k += step) probes.push_back(0.5 * (c + mesh.positions[loop[k]]));
+  }
+  probe_start[fit.loops.size()] = probes.size();
+  const std::vector<double> to_points = nearest_point_distances(finite, probes);
+  const ClosestPointIndex surface(mesh);
+  for (std::size_t i = 0; i < fit.loops.size(); ++i) {
+    BoundaryLoopFit& b = fit.loops[i];
+    if (is_rim[i]) {
+      b.kind = BoundaryLoopFit::Kind::rim;
+      ++fit.rims;
+      continue;
+    }
+    if (from_grid) {
+      b.kind = BoundaryLoopFit::Kind::gap;
+      ++fit.gaps;
+      continue;
+    }
+    bool data_inside = false, all_near = true;
+    for (std::size_t k = probe_start[i]; k < probe_start[i + 1]; ++k) {
+      const bool near_point = to_points[k] <= 1.5 * spacing;
+      all_near = all_near && near_point;
+      if (near_point && surface.closest(probes[k]).distance > 0.5 * spacing) data_inside = true;
+    }
+    if (data_inside || all_near) {
+      b.kind = BoundaryLoopFit::Kind::hole;
+      ++fit.holes;
+      fit.largest_hole = std::max(fit.largest_hole, b.perimeter);
+    } else {
+      b.kind = BoundaryLoopFit::Kind::gap;
+      ++fit.gaps;
+    }
+  }
+  return fit;
+}
+
+std::vector<std::string> scan_fit_problems(const ScanFit& fit, const ScanFitLimits& limits) {
+  std::vector<std::string> out;
+  char buf[256];
+  if (fit.coverage < limits.min_coverage) {
+    std::snprintf(buf, sizeof buf, "the mesh leaves %.1f%% of the points out (%zu farther than 2 spacings; at most %.1f%% expected)",
+                  100.0 * (1.0 - fit.coverage), fit.points_left_out, 100.0 * (1.0 - limits.min_coverage));
+    out.emplace_back(buf);
+  }
+  std::size_t big = 0;
+  for (const auto& l : fit.loops)
+    big += l.kind == BoundaryLoopFit::Kind::hole && l.perimeter >= limits.min_hole_perimeter * fit.spacing ? 1 : 0;
+  if (big > limits.max_holes) {
+    std::snprintf(buf, sizeof buf, "%zu hole%s where the scan has points (the largest %.3g spacings around)", big, big == 1 ? "" : "s",
+                  fit.spacing > 0 ? fit.largest_hole / fit.spacing : 0.0);
+    out.emplace_back(buf);
+  }
+  if (fit.inconsistent_edges > limits.max_inconsistent_edges) {
+    std::snprintf(buf, sizeof buf, "%zu edges between faces of opposite orientation", fit.inconsistent_edges);
+    out.emplace_back(buf);
+  }
+  return out;
+}
+
+void write_json(JsonWriter& w, const ScanFit& f) {
+  w.begin_object();
+  w.field("points", f.points).field("spacing", f.spacing).field("coverage", f.coverage).field("coverage_radius", f.coverage_radius);
+  w.field("points_left_out", f.points_left_out);
+  w.field("distance_mean", f.distance_mean).field("distance_p95", f.distance_p95).field("distance_max", f.distance_max);
+  w.field("pieces", f.pieces).field("main_piece_share", f.main_piece_share);
+  w.field("rims", f.rims).field("holes", f.holes).field("gaps", f.gaps).field("largest_hole", f.largest_hole);
+  w.field("inconsistent_edges", f.inconsistent_edges);
+  w.key("problems").begin_array();
+  for (const auto& p : scan_fit_problems(f)) w.value(p);
+  w.end_array();
+  w.end_object();
+}
+
+std::string scan_fit_summary(const ScanFit& fit) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "coverage %.1f%% (%zu points left out); point-to-mesh distance mean %.3g, p95 %.3g, max %.3g; %zu piece%s; %zu hole%s, "
+                "%zu gap%s in the data",
+                100.0 * fit.coverage, fit.points_left_out, fit.distance_mean, fit.distance_p95, fit.distance_max, fit.pieces,
+                fit.pieces == 1 ? "" : "s", fit.holes, fit.holes == 1 ? "" : "s", fit.gaps, fit.gaps == 1 ? "" : "s");
+  return buf;
+}
+
+}  // namespace scanmesh

@@ -1,0 +1,70 @@
+#include "scanmesh/scan_fit.h"
+
+#include <gtest/gtest.h>
+
+#include "helpers.h"
+
+using namespace scanmesh;
+
+namespace {
+
+// The grid's vertices as a scan, plus extra points.
+std::vector<Vec3> points_of(const Mesh& m) { return m.positions; }
+
+// A grid without the faces that touch a vertex strictly inside (lo, hi) x (lo, hi): a square hole.
+Mesh punch(const Mesh& grid, double lo, double hi) {
+  Mesh m = grid;
+  m.faces.clear();
+  auto inside = [&](int v) {
+    const Vec3& p = grid.positions[v];
+    return p.x() > lo && p.x() < hi && p.y() > lo && p.y() < hi;
+  };
+  for (const Face& f : grid.faces)
+    if (!inside(f[0]) && !inside(f[1]) && !inside(f[2])) m.faces.push_back(f);
+  return m;
+}
+
+}  // namespace
+
+TEST(ScanFit, AMeshThroughItsPointsCoversThemAndHasOnlyItsRim) {
+  const Mesh g = test::make_grid(20);
+  const ScanFit f = measure_scan_fit(g, points_of(g), 1.0);
+  EXPECT_EQ(f.coverage, 1.0);
+  EXPECT_EQ(f.points_left_out, 0u);
+  EXPECT_NEAR(f.distance_max, 0.0, 1e-12);
+  EXPECT_EQ(f.rims, 1u);
+  EXPECT_EQ(f.holes + f.gaps, 0u);
+  EXPECT_EQ(f.pieces, 1u);
+  EXPECT_TRUE(scan_fit_problems(f).empty());
+}
+
+TEST(ScanFit, AHoleWherePointsWereIsAProblemAndAGapWithoutPointsIsNot) {
+  const Mesh g = test::make_grid(30);
+  // Faces removed over a 10 x 10 square (vertices 11..19): with the points inside it kept, the mesh leaves data out.
+  const Mesh holed = punch(g, 10.5, 19.5);
+  const ScanFit with_data = measure_scan_fit(holed, points_of(g), 1.0);
+  EXPECT_EQ(with_data.holes, 1u);
+  EXPECT_EQ(with_data.points_left_out, 25u);  // the 5 x 5 points more than 2 spacings inside
+  const auto problems = scan_fit_problems(with_data);  // 2.6% left out is within the 3% allowed; the hole is not
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("1 hole where the scan has points"), std::string::npos) << problems[0];
+  // The same hole where the scan saw nothing (points inside removed): a gap of the data, no problem.
+  std::vector<Vec3> seen;
+  for (const Vec3& p : g.positions)
+    if (!(p.x() > 10.5 && p.x() < 19.5 && p.y() > 10.5 && p.y() < 19.5)) seen.push_back(p);
+  const ScanFit gap = measure_scan_fit(holed, seen, 1.0);
+  EXPECT_EQ(gap.holes, 0u);
+  EXPECT_EQ(gap.gaps, 1u);
+  EXPECT_TRUE(scan_fit_problems(gap).empty());
+}
+
+TEST(ScanFit, DistancesAreInSceneUnits) {
+  const Mesh g = test::make_grid(10);
+  std::vector<Vec3> pts = points_of(g);
+  pts.push_back(Vec3(5, 5, 0.25));
+  pts.push_back(Vec3(5, 5, 3.0));  // far off: left out
+  const ScanFit f = measure_scan_fit(g, pts, 1.0);
+  EXPECT_NEAR(f.distance_max, 3.0, 1e-12);
+  EXPECT_EQ(f.points_left_out, 1u);
+  EXPECT_NEAR(f.coverage, 1.0 - 1.0 / static_cast<double>(pts.size()), 1e-12);
+}
