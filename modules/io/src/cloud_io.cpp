@@ -125,8 +125,10 @@ bool parse_conf_pose(std::string_view conf_text, const std::string& conf_file, c
         throw InputError(conf_file + ":" + std::to_string(line_no) + ": 'bmesh " + name + "' needs 7 finite numbers (tx ty tz qx qy qz qw)");
     const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
     if (!(q.norm() > 1e-9)) throw InputError(conf_file + ":" + std::to_string(line_no) + ": the rotation quaternion is zero");
+    // Scanalyze's convention: the quaternion's conjugate rotates scan coordinates into the common frame
+    // (measured: the three bunny scans overlap to a median 0.3 mm this way, 29 mm with the quaternion as it is).
     pose = Eigen::Isometry3d::Identity();
-    pose.linear() = q.normalized().toRotationMatrix();
+    pose.linear() = q.normalized().conjugate().toRotationMatrix();
     pose.translation() = Vec3(v[0], v[1], v[2]);
     return true;
   }

@@ -73,11 +73,19 @@ void Binder::options(OptionSet& set) {
     std::string text;
     if (n.IsScalar()) {
       text = n.Scalar();
-    } else if (f.type == FieldType::vec3 && n.IsSequence()) {
+    } else if ((f.type == FieldType::vec3 || f.type == FieldType::matrix4) && n.IsSequence()) {
+      // Numbers, or for a matrix also rows of numbers; the schema checks the count.
       text = "[";
+      bool first = true;
+      auto add = [&](const YAML::Node& x) {
+        if (!x.IsScalar()) fail(n, f.name, "expected " + f.domain());
+        text += (first ? "" : ", ") + x.Scalar();
+        first = false;
+      };
       for (std::size_t k = 0; k < n.size(); ++k) {
-        if (!n[k].IsScalar()) fail(n, f.name, "expected three numbers, e.g. [0, 0, 0]");
-        text += (k ? ", " : "") + n[k].Scalar();
+        if (f.type == FieldType::matrix4 && n[k].IsSequence())
+          for (std::size_t j = 0; j < n[k].size(); ++j) add(n[k][j]);
+        else add(n[k]);
       }
       text += "]";
     } else {

@@ -144,8 +144,7 @@ Pipeline Pipeline::parse(std::string_view yaml, const std::string& path, const P
           }
           slot.inputs.push_back(t);
         }
-        if (slot.inputs.size() > 1)
-          throw ConfigError(slot.where.prefix(in.Mark().line + 1) + ": key 'inputs': stages take one input; got " + std::to_string(slot.inputs.size()));
+        slot.inputs_line = in.Mark().line + 1;
       }
       slot.options = item;  // the loaded node itself: its marks give line numbers
     } else {
@@ -229,6 +228,11 @@ Pipeline Pipeline::finish(std::unique_ptr<Impl> impl) {
     Binder b(s.options, s.where);
     s.stage->bind(b);
     b.finish();
+    if (s.inputs.size() > 1 && !s.stage->takes_many_inputs())
+      throw ConfigError(s.where.prefix(s.inputs_line) + ": key 'inputs': this stage takes one input; got " + std::to_string(s.inputs.size()) +
+                        " (cloud.merge and cloud.register combine several)");
+    if (s.stage->takes_many_inputs() && s.inputs.size() < 2)
+      throw ConfigError(s.where.prefix(s.inputs_line) + ": key 'inputs': list the tags of the views to combine (at least two)");
     resolved.push_back(s.options);
   }
   impl->resolved = YAML::Node(YAML::NodeType::Map);

@@ -11,7 +11,8 @@ namespace scanmesh {
 namespace detail {
 struct StageSlot {
   Where where;
-  std::vector<std::string> inputs;  ///< tag of the stage whose data this one takes (at most one)
+  std::vector<std::string> inputs;  ///< tags of the stages whose data this one takes (one, or several to combine)
+  int inputs_line = 0;
   YAML::Node options;               ///< the stage's map (with marks for line numbers)
   std::unique_ptr<Stage> stage;
 };

@@ -46,10 +46,18 @@ PipelineResult Pipeline::run() {
   try {
     for (auto& s : impl_->slots) s.stage->prepare(ctx);
     for (auto& s : impl_->slots) {
-      if (!s.inputs.empty()) data = tagged.at(s.inputs.front());
+      if (s.inputs.size() == 1) data = tagged.at(s.inputs.front());
       const auto ts = std::chrono::steady_clock::now();
       try {
-        s.stage->run(data, ctx);
+        if (s.stage->takes_many_inputs()) {
+          std::vector<const Data*> ins;
+          for (const auto& t : s.inputs) ins.push_back(&tagged.at(t));
+          Data combined;
+          s.stage->run_many(ins, combined, ctx);
+          data = std::move(combined);
+        } else {
+          s.stage->run(data, ctx);
+        }
       } catch (const Error& e) {
         throw InputError(s.where.prefix() + ": " + e.what());
       }
@@ -87,7 +95,10 @@ PipelineResult Pipeline::run() {
     }
     report.scan_fit = fit ? &*fit : nullptr;
     report.scan_points = fit ? &data.meshed->points : nullptr;
-    if (data.cloud && data.cloud->sensor_origin) report.sensor = data.cloud->sensor_origin;
+    if (data.cloud && data.cloud->sensor_origin) {
+      report.sensor = data.cloud->sensor_origin;
+      report.sensor_up = data.cloud->sensor_orientation * Vec3(0, -1, 0);
+    }
     report.status = ctx.problems.empty() ? "ok" : "degraded";
     report.problems = ctx.problems;
     report.seed = data.seed;

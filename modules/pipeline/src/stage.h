@@ -59,6 +59,10 @@ struct Stage {
   /// Before any stage runs (e.g. read a reference), so input errors surface before the work.
   virtual void prepare(RunContext&) {}
   virtual void run(Data& d, RunContext& ctx) = 0;
+  /// Stages that combine several earlier results (cloud.merge, cloud.register) take them all here, in the
+  /// order `inputs` lists them, and write the combination to `out`.
+  [[nodiscard]] virtual bool takes_many_inputs() const { return false; }
+  virtual void run_many(const std::vector<const Data*>& /*inputs*/, Data& /*out*/, RunContext& /*ctx*/) {}
   /// Files this stage reads or writes (checked at loading: inputs exist, outputs writable, never an input).
   [[nodiscard]] virtual std::vector<std::string> files_read() const { return {}; }
   [[nodiscard]] virtual std::vector<std::string> files_written() const { return {}; }

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "scanmesh/clean_cloud.h"
+#include "scanmesh/combine_views.h"
 #include "scanmesh/dequantize.h"
 #include "stage.h"
 
@@ -62,6 +63,53 @@ struct DequantizeStage : Stage {
   }
 };
 
+std::vector<PointCloud> views_of(const std::vector<const Data*>& inputs, const char* stage) {
+  std::vector<PointCloud> views;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    if (!inputs[i]->cloud)
+      throw InputError(std::string(stage) + ": input " + std::to_string(i + 1) + " is not a point cloud (combine clouds before meshing)");
+    views.push_back(*inputs[i]->cloud);
+  }
+  return views;
+}
+
+struct MergeStage : Stage {
+  void bind(Binder&) override {}
+  [[nodiscard]] bool takes_many_inputs() const override { return true; }
+  void run(Data&, RunContext&) override { throw InputError("cloud.merge needs 'inputs': the tags of the views to merge"); }
+  void run_many(const std::vector<const Data*>& inputs, Data& out, RunContext&) override {
+    const std::vector<PointCloud> views = views_of(inputs, "cloud.merge");
+    out.cloud = merge_views(views);
+    details = std::to_string(views.size()) + " views, " + std::to_string(out.cloud->size()) + " points";
+  }
+};
+
+struct RegisterStage : Stage {
+  RegisterOptions o;
+  void bind(Binder& b) override { bind_options(b, o); }
+  [[nodiscard]] bool takes_many_inputs() const override { return true; }
+  void run(Data&, RunContext&) override { throw InputError("cloud.register needs 'inputs': the tags of the views to align"); }
+  void run_many(const std::vector<const Data*>& inputs, Data& out, RunContext& ctx) override {
+    std::vector<PointCloud> views = views_of(inputs, "cloud.register");
+    const std::vector<ViewAlignment> a = register_views(views, o);
+    out.cloud = merge_views(views);
+    char buf[200];
+    details = std::to_string(views.size()) + " views aligned to the first:";
+    for (std::size_t k = 1; k < a.size(); ++k) {
+      std::snprintf(buf, sizeof buf, " view %zu moved %.3g deg and %.3g, RMS %.3g, overlap %.0f%%%s;", k + 1, a[k].rotation_deg,
+                    a[k].translation, a[k].rms, 100.0 * a[k].overlap, a[k].converged ? "" : " (not converged)");
+      details += buf;
+      decision_numbers.push_back({"view" + std::to_string(k + 1) + "_rotation_deg", a[k].rotation_deg});
+      decision_numbers.push_back({"view" + std::to_string(k + 1) + "_translation", a[k].translation});
+      decision_numbers.push_back({"view" + std::to_string(k + 1) + "_rms", a[k].rms});
+      decision_numbers.push_back({"view" + std::to_string(k + 1) + "_overlap", a[k].overlap});
+      if (a[k].overlap < 0.2)
+        ctx.warnings.push_back("cloud.register: view " + std::to_string(k + 1) + " overlaps the others by only " +
+                               std::to_string(static_cast<int>(100.0 * a[k].overlap)) + "%; its pose may be wrong");
+    }
+  }
+};
+
 template <class S>
 StageFactory make() {
   return [] { return std::make_unique<S>(); };
@@ -76,6 +124,8 @@ void register_cloud_stages(StageRegistry& r) {
   r.add("cloud.normals", make<NormalStage>());
   r.add("cloud.mls", make<MlsStage>());
   r.add("cloud.dequantize", make<DequantizeStage>());
+  r.add("cloud.merge", make<MergeStage>());
+  r.add("cloud.register", make<RegisterStage>());
 }
 
 }  // namespace scanmesh::detail

@@ -10,12 +10,35 @@ namespace {
 
 struct ReaderOptions {
   std::string filename;
+  std::string columns;
+  bool viewpoint_pose = false;
+  Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();
   static const Schema<ReaderOptions>& schema() {
-    static const Schema<ReaderOptions> s = Schema<ReaderOptions>().text(
-        "filename", &ReaderOptions::filename, "file", "Mesh (.obj .off .ply .stl) or cloud (.pcd .ply .xyz .txt .pts) to read.");
+    static const Schema<ReaderOptions> s =
+        Schema<ReaderOptions>()
+            .text("filename", &ReaderOptions::filename, "file",
+                  "Mesh (.obj .off .ply .stl) or cloud (.pcd .ply .xyz .txt .csv .pts) to read.")
+            .text("columns", &ReaderOptions::columns, "column list",
+                  "Text clouds: what each column holds, e.g. x,y,z,i,r,g,b (nx ny nz normals, r g b colours, i intensity "
+                  "and _ skipped); empty = from the header line, else sniffed from the values.")
+            .flag("viewpoint_pose", &ReaderOptions::viewpoint_pose,
+                  "Clouds: the points are in the sensor's frame and the file's VIEWPOINT is the sensor's pose; move "
+                  "them into the common frame (to merge views).")
+            .matrix4("transform", &ReaderOptions::transform, "rigid transform",
+                     "Moves what is read (after viewpoint_pose): a 4x4 matrix, row by row, e.g. a view's pose from "
+                     "registration software.");
     return s;
   }
 };
+
+void apply(PointCloud& c, const Eigen::Isometry3d& t) {
+  for (Vec3& p : c.points)
+    if (p.allFinite()) p = t * p;
+  for (Vec3& n : c.normals)
+    if (n.allFinite()) n = t.linear() * n;
+  if (c.sensor_origin) c.sensor_origin = t * *c.sensor_origin;
+  c.sensor_orientation = t.linear() * c.sensor_orientation;
+}
 
 struct WriterOptions {
   std::string filename;
@@ -34,13 +57,30 @@ struct ReaderStage : Stage {
   void bind(Binder& b) override { bind_options(b, o); }
   [[nodiscard]] std::vector<std::string> files_read() const override { return {o.filename}; }
   void run(Data& d, RunContext& ctx) override {
+    d = Data{};  // a reader starts a new branch of the pipeline
+    Eigen::Isometry3d t;
+    t.matrix() = o.transform;
     if (!holds_cloud(o.filename)) {
       d.mesh = read_mesh(o.filename, &ctx.warnings);
+      if (!o.transform.isIdentity())
+        for (Vec3& p : d.mesh->positions) p = t * p;
       return;
     }
-    d.cloud = read_cloud(o.filename, &ctx.warnings);
+    CloudReadOptions ro;
+    ro.columns = o.columns;
+    d.cloud = read_cloud(o.filename, &ctx.warnings, ro);
+    if (o.viewpoint_pose) {
+      if (!d.cloud->sensor_origin) throw InputError(o.filename + ": viewpoint_pose: the file gives no VIEWPOINT");
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.linear() = d.cloud->sensor_orientation;
+      pose.translation() = *d.cloud->sensor_origin;
+      d.cloud->sensor_origin = Vec3::Zero();
+      d.cloud->sensor_orientation.setIdentity();
+      apply(*d.cloud, pose);
+    }
+    if (!o.transform.isIdentity()) apply(*d.cloud, t);
     d.scale = measure_scale(*d.cloud);
-    if (ctx.report) {
+    if (ctx.report && ctx.report->input_points == 0) {
       ctx.report->input_points = d.cloud->finite_count();
       ctx.report->input_spacing = d.scale->spacing;
       ctx.report->input_diagonal = d.scale->diagonal;

@@ -62,14 +62,20 @@ void draw_colour_bar(cv::Mat& img, int y, const ColourScale& s) {
 void render_panel(cv::Mat& img, const Panel& p, const Camera& cam, const std::optional<ColourScale>& scale) {
   const int size = img.cols;
   const Vec3 forward = cam.forward.normalized();
-  const Vec3 up0 = std::abs(forward.y()) < 0.9 ? Vec3(0, -1, 0) : Vec3(0, 0, 1);  // depth cameras: y points down
-  const Vec3 right = forward.cross(up0).normalized();
+  const Vec3 right = forward.cross(cam.up).normalized();
   const Vec3 up = right.cross(forward);
   const double scale_px = 0.86 * size / std::max(cam.extent, 1e-300);
-  const double cx = cam.centre.dot(right), cy = cam.centre.dot(up);
+  const double cx = cam.perspective ? cam.centre_u : cam.centre.dot(right), cy = cam.perspective ? cam.centre_v : cam.centre.dot(up);
   auto project = [&](const Vec3& q) {
-    return cv::Point(static_cast<int>(std::lround(size / 2.0 + (q.dot(right) - cx) * scale_px)),
-                     static_cast<int>(std::lround(size / 2.0 + 14 - (q.dot(up) - cy) * scale_px)));
+    double u = q.dot(right), v = q.dot(up);
+    if (cam.perspective) {
+      const Vec3 d = q - cam.eye;
+      const double z = std::max(d.dot(forward), 1e-12);
+      u = d.dot(right) / z;
+      v = d.dot(up) / z;
+    }
+    const double x = std::clamp(size / 2.0 + (u - cx) * scale_px, -1e6, 1e6), y = std::clamp(size / 2.0 + 14 - (v - cy) * scale_px, -1e6, 1e6);
+    return cv::Point(static_cast<int>(std::lround(x)), static_cast<int>(std::lround(y)));
   };
   if (p.mesh != nullptr && !p.mesh->faces.empty()) {
     const Mesh& m = *p.mesh;
@@ -154,7 +160,9 @@ std::vector<unsigned char> render_histogram(const Histogram& h) {
     const int x = left + pw * t / 5;
     cv::line(img, {x, top + ph}, {x, top + ph + 5}, cv::Scalar(0, 0, 0), 1);
     const std::string label = fmt(h.lo + (h.hi - h.lo) * t / 5.0) + (t == 5 && h.clipped ? "+" : "");
-    cv::putText(img, label, {x - 14, top + ph + 22}, kFont, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    int base = 0;
+    const int tw = cv::getTextSize(label, kFont, 0.45, 1, &base).width;
+    cv::putText(img, label, {std::min(x - tw / 2, W - tw - 4), top + ph + 22}, kFont, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     const int y = top + ph - ph * t / 5;
     cv::line(img, {left - 5, y}, {left, y}, cv::Scalar(0, 0, 0), 1);
     cv::putText(img, std::to_string(std::llround(static_cast<double>(peak) * t / 5.0)), {8, y + 5}, kFont, 0.42, cv::Scalar(0, 0, 0), 1,
@@ -173,8 +181,8 @@ std::vector<unsigned char> render_histogram(const Histogram& h) {
   mark(h.median, cv::Scalar(0, 160, 0));
   mark(h.p95, cv::Scalar(200, 0, 200));
   const std::string legend = "mean " + fmt(h.mean) + " (red)  median " + fmt(h.median) + " (green)  95% " + fmt(h.p95) +
-                             " (purple)  max " + fmt(h.max) + "  n = " + std::to_string(h.total);
-  cv::putText(img, legend, {left, 56}, kFont, 0.42, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+                             " (purple)  max " + fmt(h.max) + "  n " + std::to_string(h.total);
+  cv::putText(img, legend, {left, 56}, kFont, 0.38, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
   return png(img);
 }
 

@@ -26,8 +26,14 @@ Histogram make_histogram(const std::string& name, const std::string& title, cons
 /// Where a view looks from and what it frames.
 struct Camera {
   Vec3 forward = Vec3(0, 0, -1);  ///< viewing direction (unit)
-  Vec3 centre = Vec3::Zero();     ///< framed point
-  double extent = 1.0;            ///< the framed width and height in scene units
+  Vec3 up = Vec3(0, 1, 0);        ///< up in the picture (unit, orthogonal to forward)
+  Vec3 centre = Vec3::Zero();     ///< framed point (orthographic)
+  double extent = 1.0;            ///< the framed width and height: scene units, or tangent units in perspective
+  /// Perspective from `eye` (a sensor's view, as its image shows the scene); `centre_uv` is then the framed
+  /// centre in tangent units (right, up).
+  bool perspective = false;
+  Vec3 eye = Vec3::Zero();
+  double centre_u = 0.0, centre_v = 0.0;
 };
 
 /// A colour scale: values from lo (blue) to hi (red) through the turbo map; `unit` labels the bar.

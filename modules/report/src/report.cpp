@@ -59,7 +59,7 @@ std::vector<int> main_piece_vertices(const Mesh& m) {
 
 // From the sensor when the run knows it; else along the mean normal of a surface that mostly faces one way
 // (a single view), or a three-quarter view of a closed object. Framed on the main piece.
-Camera choose_camera(const Mesh& m, const FaceGeometry& g, const std::optional<Vec3>& sensor) {
+Camera choose_camera(const Mesh& m, const FaceGeometry& g, const std::optional<Vec3>& sensor, const Vec3& sensor_up) {
   Camera cam;
   const std::vector<int> main = main_piece_vertices(m);
   Vec3 centre = Vec3::Zero();
@@ -71,21 +71,44 @@ Camera choose_camera(const Mesh& m, const FaceGeometry& g, const std::optional<V
     mean_normal += g.areas[f] * g.normals[f];
     area += g.areas[f];
   }
-  if (sensor && (centre - *sensor).norm() > 0.0) cam.forward = (centre - *sensor).normalized();
-  else if (area > 0.0 && mean_normal.norm() > 0.5 * area) cam.forward = -(mean_normal.normalized() + Vec3(0.15, -0.2, 0.1)).normalized();
-  else cam.forward = -Vec3(1.0, -1.3, 0.9).normalized();
-  const Vec3 up0 = std::abs(cam.forward.y()) < 0.9 ? Vec3(0, -1, 0) : Vec3(0, 0, 1);
+  // Up: the sensor image's up when it is known, else +y (most scan and mesh formats), or +z when looking
+  // along y.
+  Vec3 up0 = Vec3(0, 1, 0);
+  if (sensor && (centre - *sensor).norm() > 0.0) {
+    cam.forward = (centre - *sensor).normalized();
+    up0 = sensor_up;
+  } else if (area > 0.0 && mean_normal.norm() > 0.5 * area) {
+    cam.forward = -(mean_normal.normalized() + Vec3(0.15, 0.2, 0.1)).normalized();
+  } else {
+    cam.forward = -Vec3(0.6, 0.5, 1.0).normalized();  // front, from the right and above
+  }
+  if (std::abs(cam.forward.dot(up0.normalized())) > 0.95) up0 = std::abs(cam.forward.z()) < 0.95 ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
   const Vec3 right = cam.forward.cross(up0).normalized();
   const Vec3 up = right.cross(cam.forward);
+  cam.up = up;
+  // A sensor's view is drawn in perspective from the sensor, as its image shows the scene.
+  cam.perspective = sensor.has_value() && (centre - *sensor).norm() > 0.0;
+  if (cam.perspective) cam.eye = *sensor;
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (int v : main) {
     const Vec3& p = m.positions[v];
-    x0 = std::min(x0, p.dot(right));
-    x1 = std::max(x1, p.dot(right));
-    y0 = std::min(y0, p.dot(up));
-    y1 = std::max(y1, p.dot(up));
+    double u = p.dot(right), w = p.dot(up);
+    if (cam.perspective) {
+      const Vec3 d = p - cam.eye;
+      const double z = d.dot(cam.forward);
+      if (!(z > 0.0)) continue;
+      u = d.dot(right) / z;
+      w = d.dot(up) / z;
+    }
+    x0 = std::min(x0, u);
+    x1 = std::max(x1, u);
+    y0 = std::min(y0, w);
+    y1 = std::max(y1, w);
   }
+  if (!(x1 >= x0)) x0 = x1 = y0 = y1 = 0.0;
   cam.extent = std::max({x1 - x0, y1 - y0, 1e-300});
+  cam.centre_u = 0.5 * (x0 + x1);
+  cam.centre_v = 0.5 * (y0 + y1);
   cam.centre = right * (0.5 * (x0 + x1)) + up * (0.5 * (y0 + y1)) + cam.forward * centre.dot(cam.forward);
   return cam;
 }
@@ -128,7 +151,7 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
 
   FaceGeometry g;
   compute_face_geometry(m.positions, m.faces, g);
-  const Camera cam = choose_camera(m, g, in.sensor);
+  const Camera cam = choose_camera(m, g, in.sensor, in.sensor_up);
   const int size = options.image_size;
   auto add = [&](const std::string& name, const std::string& title, const std::string& caption, std::vector<unsigned char> png) {
     c.figures.push_back({(std::filesystem::path(paths.folder) / name).string(), title, caption, std::move(png)});
@@ -155,11 +178,11 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
     Panel before;
     before.mesh = in.before;
     before.title = "before";
-    add("views.png", "Before and after", "The mesh as it entered the first stage that moved its vertices (left) and the result (right), " +
+    add("view_result.png", "Before and after", "The mesh as it entered the first stage that moved its vertices (left) and the result (right), " +
                                               view_from + ", framed on the largest piece." + edges_note + flips_note,
         detail::render_views({before, after}, cam, size, std::nullopt));
   } else {
-    add("views.png", "Result", "The mesh, " + view_from + ", framed on the largest piece." + edges_note + flips_note,
+    add("view_result.png", "Result", "The mesh, " + view_from + ", framed on the largest piece." + edges_note + flips_note,
         detail::render_views({after}, cam, size, std::nullopt));
   }
   if (moved) {
@@ -168,7 +191,7 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
     p.title = "vertex displacement";
     p.face_values = per_face(m, displacement);
     const ColourScale s{0.0, std::max(quantile(displacement, 0.95), 1e-300), "scene units (the scale ends at the 95th percentile)"};
-    add("displacement.png", "How far denoising moved the surface",
+    add("view_displacement.png", "How far denoising moved the surface",
         "Each face coloured by how far its vertices moved, in scene units; blue did not move, red moved " + fmt(s.hi) +
             " or more. Even colour means noise was removed evenly; a red patch shows where shape changed.",
         detail::render_views({p}, cam, size, s));
@@ -181,7 +204,7 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
     p.points = in.scan_points;
     p.point_values = &f.point_distance;
     const ColourScale s{0.0, std::max(quantile(f.point_distance, 0.95), f.coverage_radius), "scene units"};
-    add("cloud_to_mesh.png", "Input points against the mesh",
+    add("view_cloud_to_mesh.png", "Input points against the mesh",
         "Every input point coloured by its distance to the mesh, in scene units, over the mesh in grey. Red points (" + fmt(s.hi) +
             " or farther) are the ones the mesh leaves out: outliers, or surface the meshing missed.",
         detail::render_views({p}, cam, size, s));
@@ -191,12 +214,12 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
     p.mesh = &m;
     p.title = "normal error";
     p.face_values = metrics.face_angle_error;
-    add("normal_error.png", "Normal error against the reference",
+    add("view_normal_error.png", "Normal error against the reference",
         "Each face coloured by the angle between its normal and the reference face's normal; the scale ends at 20 degrees.",
         detail::render_views({p}, cam, size, ColourScale{0.0, 20.0, "degrees"}));
   }
   for (const auto& h : c.histograms)
-    add(h.name + ".png", h.title, "Histogram; the mean (red), median (green) and 95th percentile (purple) are marked, values beyond the axis are counted in the last bar.",
+    add("histogram_" + h.name + ".png", h.title, "Histogram; the mean (red), median (green) and 95th percentile (purple) are marked, values beyond the axis are counted in the last bar.",
         detail::render_histogram(h));
   return c;
 }

@@ -21,7 +21,7 @@
 namespace scanmesh {
 
 /// What kind of value a field holds (how it is parsed and printed).
-enum class FieldType { number, integer, seed, flag, choice, length, vec3, text };
+enum class FieldType { number, integer, seed, flag, choice, length, vec3, matrix4, text };
 
 /// A closed or open interval of allowed values for numbers and integers.
 struct Range {
@@ -63,6 +63,10 @@ bool parse_flag_value(const FieldInfo& f, const std::string& text);
 /// Throws UsageError naming the flag unless v is finite and within f.range.
 void check_number_value(const FieldInfo& f, double v);
 Vec3 parse_vec3_value(const FieldInfo& f, const std::string& text);
+/// A rigid transform as 16 numbers, row by row (nested lists allowed); throws unless it is one.
+Eigen::Matrix4d parse_matrix4_value(const FieldInfo& f, const std::string& text);
+/// "[1, 0, 0, 0, ...]" (row by row).
+std::string format_matrix4(const Eigen::Matrix4d& m);
 
 /// The fields of one options struct O, each with typed access to an O.
 template <class O>
@@ -151,6 +155,12 @@ class Schema {
                          return "[" + format_number((o.*m)[0]) + ", " + format_number((o.*m)[1]) + ", " + format_number((o.*m)[2]) + "]";
                        },
                        [m, fi](O& o, const std::string& t) { o.*m = parse_vec3_value(fi, t); }, [](const O&) {}});
+    return *this;
+  }
+  Schema& matrix4(const char* name, Eigen::Matrix4d O::*m, const char* unit, const char* doc) {
+    FieldInfo fi{name, FieldType::matrix4, unit, {}, {}, doc};
+    fields_.push_back({fi, [m](const O& o) { return format_matrix4(o.*m); },
+                       [m, fi](O& o, const std::string& t) { o.*m = parse_matrix4_value(fi, t); }, [](const O&) {}});
     return *this;
   }
   Schema& text(const char* name, std::string O::*m, const char* unit, const char* doc) {

@@ -61,6 +61,7 @@ struct ReportInput {
   const ScanFit* scan_fit = nullptr;  ///< the final mesh against the points it was made from, if any
   const std::vector<Vec3>* scan_points = nullptr;  ///< those points (same order as scan_fit's distances)
   std::optional<Vec3> sensor;         ///< where the scanner was, when the input says so (views look from there)
+  Vec3 sensor_up = Vec3(0, -1, 0);    ///< the sensor image's up direction in the scene (depth cameras: -y)
   const Mesh* mesh = nullptr;    ///< the final mesh (null for cloud-only pipelines)
   const Mesh* before = nullptr;  ///< the mesh before denoising, same vertex order (optional)
   const Mesh* reference = nullptr;

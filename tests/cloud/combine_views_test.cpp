@@ -1,0 +1,80 @@
+#include "scanmesh/combine_views.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "scanmesh/errors.h"
+#include "scanmesh/mesh_io.h"
+#include "scanmesh/neighbourhoods.h"
+#include "scanmesh/virtual_scan.h"
+
+using namespace scanmesh;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Rotation by `degrees` about an axis through `centre`, then a shift.
+Eigen::Isometry3d perturbation(const Vec3& centre, const Vec3& axis, double degrees, const Vec3& shift) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(degrees * kPi / 180.0, axis.normalized()).toRotationMatrix();
+  t.translation() = centre - t.linear() * centre + shift;
+  return t;
+}
+
+void move(PointCloud& c, const Eigen::Isometry3d& t) {
+  for (Vec3& p : c.points)
+    if (p.allFinite()) p = t * p;
+  if (c.sensor_origin) c.sensor_origin = t * *c.sensor_origin;
+}
+
+}  // namespace
+
+TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
+  // Three overlapping virtual scans of the bundled Fandisk, the second and third moved by 5 degrees and a
+  // translation of 4% of its bounding-box diagonal (1 cm on the bunny).
+  const Mesh fandisk = read_mesh(std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj");
+  VirtualScanOptions o;
+  o.views = 12;
+  o.width = 160;
+  o.height = 120;
+  o.noise = 0.05;
+  const std::vector<PointCloud> all = virtual_scan(fandisk, o);
+  // The first view and the two seen from the nearest directions (overlapping, as turntable steps do).
+  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+  for (const Vec3& p : fandisk.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 centre = 0.5 * (lo + hi);
+  const double size = (hi - lo).norm();
+  std::vector<std::pair<double, std::size_t>> by_angle;
+  const Vec3 d0 = (*all[0].sensor_origin - centre).normalized();
+  for (std::size_t k = 1; k < all.size(); ++k) by_angle.emplace_back(-d0.dot((*all[k].sensor_origin - centre).normalized()), k);
+  std::sort(by_angle.begin(), by_angle.end());
+  std::vector<PointCloud> views = {all[0], all[by_angle[0].second], all[by_angle[1].second]};
+  const Eigen::Isometry3d p1 = perturbation(centre, Vec3(1, 1, 0), 5.0, Vec3(0.04 * size, 0, 0));
+  const Eigen::Isometry3d p2 = perturbation(centre, Vec3(0, 1, 1), -5.0, Vec3(0, 0.03 * size, -0.03 * size));
+  move(views[1], p1);
+  move(views[2], p2);
+  const std::vector<ViewAlignment> a = register_views(views, RegisterOptions{});
+  ASSERT_EQ(a.size(), 3u);
+  for (std::size_t k = 1; k < 3; ++k) {
+    const Eigen::Isometry3d residual = a[k].correction * (k == 1 ? p1 : p2);
+    const double angle = Eigen::AngleAxisd(residual.linear()).angle() * 180.0 / kPi;
+    EXPECT_LT(angle, 0.5) << "view " << k + 1;
+    // Where the residual leaves the view's points: at the part's scale, within half a percent of its size.
+    const Vec3 moved_centre = residual * centre;
+    EXPECT_LT((moved_centre - centre).norm(), 0.005 * size) << "view " << k + 1;
+    EXPECT_GT(a[k].overlap, 0.3) << "view " << k + 1;
+  }
+  const PointCloud merged = merge_views(views);
+  std::size_t n = 0;
+  for (const auto& v : views) n += v.finite_count();
+  EXPECT_EQ(merged.size(), n);
+  EXPECT_TRUE(merged.normals_oriented);  // directions to each view's sensor, as orientation hints
+}
+
+TEST(CombineViews, ViewsWithoutPointsAreAnError) {
+  std::vector<PointCloud> views(2);
+  for (int i = 0; i < 100; ++i) views[0].points.emplace_back(i * 0.01, 0.0, 0.0);
+  EXPECT_THROW(register_views(views, RegisterOptions{}), InputError);
+}
