@@ -17,6 +17,7 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/triangulate.h"
+#include "scanmesh/combine_views.h"
 #include "scanmesh/virtual_scan.h"
 
 using namespace scanmesh;
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
   for (const auto& name : models) {
     const Mesh clean = read_mesh((dir / name / "clean.obj").string());
     const auto t0 = std::chrono::steady_clock::now();
-    const PointCloud scan = merge_scans(virtual_scan(clean, VirtualScanOptions{}));
+    const PointCloud scan = merge_views(virtual_scan(clean, VirtualScanOptions{}));
     const double t_scan = since(t0);
     const auto t1 = std::chrono::steady_clock::now();
     PointCloud cloud = scan;

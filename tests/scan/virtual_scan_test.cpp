@@ -1,3 +1,4 @@
+#include "scanmesh/combine_views.h"
 #include "scanmesh/virtual_scan.h"
 
 #include <gtest/gtest.h>
@@ -42,13 +43,13 @@ TEST(VirtualScan, NoiseGrowsAlongTheRaysAndIsSeededAndThreadIndependent) {
   o.width = 80;
   o.height = 60;
   set_thread_count(1);
-  const auto a = merge_scans(virtual_scan(cube, o));
+  const auto a = merge_views(virtual_scan(cube, o));
   set_thread_count(2);
-  const auto b = merge_scans(virtual_scan(cube, o));
+  const auto b = merge_views(virtual_scan(cube, o));
   set_thread_count(0);
   EXPECT_EQ(a.points, b.points);
   o.seed = 2;
-  const auto c = merge_scans(virtual_scan(cube, o));
+  const auto c = merge_views(virtual_scan(cube, o));
   EXPECT_NE(a.points, c.points);
   // Points are off the surface by about the requested noise (0.3 mean edges at the mean distance).
   ClosestPointIndex index(cube);

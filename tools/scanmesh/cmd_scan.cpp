@@ -8,6 +8,7 @@
 #include "scanmesh/errors.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
+#include "scanmesh/combine_views.h"
 #include "scanmesh/virtual_scan.h"
 
 namespace scanmesh::cli {
@@ -49,7 +50,7 @@ int run_scan(const std::vector<std::string>& args) {
   const Mesh mesh = read_mesh(in, &warnings);
   print_warnings(warnings, vm["quiet"].as<bool>());
   const std::vector<PointCloud> views = virtual_scan(mesh, s);
-  const PointCloud merged = merge_scans(views);
+  const PointCloud merged = merge_views(views);
   if (merged.points.empty()) throw InputError(in + ": no ray hit the mesh");
   const std::filesystem::path base(out);
   const std::string stem = (base.parent_path() / base.stem()).string();

@@ -114,19 +114,4 @@ std::vector<PointCloud> virtual_scan(const Mesh& mesh, const VirtualScanOptions&
   return views;
 }
 
-PointCloud merge_scans(const std::vector<PointCloud>& views) {
-  PointCloud out;
-  for (const auto& v : views)
-    for (const auto& p : v.points)
-      if (p.allFinite()) {
-        out.points.push_back(p);
-        // The merged cloud forgets the viewpoints; each point keeps the direction to its sensor as its
-        // normal, as scanner software exports, so later normal estimation can orient by it.
-        if (v.sensor_origin) out.normals.push_back((*v.sensor_origin - p).normalized());
-      }
-  if (out.normals.size() != out.points.size()) out.normals.clear();
-  out.width = static_cast<int>(out.points.size());
-  return out;
-}
-
 }  // namespace scanmesh

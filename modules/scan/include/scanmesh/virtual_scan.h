@@ -38,8 +38,7 @@ struct VirtualScanOptions {
 /// and orientation. Deterministic for a seed, whatever the thread count.
 std::vector<PointCloud> virtual_scan(const Mesh& mesh, const VirtualScanOptions& options);
 
-/// All finite points of the views in one unorganized cloud; each point's normal is the unit direction
-/// towards the sensor that saw it (merging loses the viewpoints; this keeps what orientation needs).
-PointCloud merge_scans(const std::vector<PointCloud>& views);
+/// (merge_views in combine_views.h makes one cloud of the views, each point keeping the direction to the
+/// sensor that saw it as an orientation hint.)
 
 }  // namespace scanmesh

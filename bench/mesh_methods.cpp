@@ -1,0 +1,162 @@
+// Which meshing method wins where. The main job (configs/scan_to_mesh.yaml, mesh.auto) against the same
+// pipeline with the method fixed by hand (gp3, Poisson trimmed to the data, Poisson watertight), on
+//  1. every cloud in ../shared/data/clouds (no truth): coverage of the points, holes, pieces, status, time;
+//  2. sparse virtual scans of complete objects with known truth (few views, few points): normal error
+//     against the clean mesh (nearest face, degrees), E_v / bounding-box diagonal, coverage, status.
+// usage: scanmesh_mesh_methods [DATA_DIR] [--config configs/scan_to_mesh.yaml] [--clouds-only|--scans-only]
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scanmesh/cloud_io.h"
+#include "scanmesh/combine_views.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/mesh_io.h"
+#include "scanmesh/neighbourhoods.h"
+#include "scanmesh/pipeline.h"
+#include "scanmesh/scan_fit.h"
+#include "scanmesh/virtual_scan.h"
+
+using namespace scanmesh;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Method {
+  const char* name;
+  std::vector<std::string> sets;
+};
+
+const std::vector<Method>& methods() {
+  static const std::vector<Method> m = {{"auto (main job)", {}},
+                                        {"gp3", {"mesh.method=gp3"}},
+                                        {"poisson trimmed", {"mesh.method=poisson"}},
+                                        {"poisson watertight", {"mesh.method=poisson", "mesh.watertight=true"}}};
+  return m;
+}
+
+struct Outcome {
+  bool ok = false;
+  std::string status, error;
+  double seconds = 0.0;
+  Mesh mesh;
+};
+
+Outcome run(const std::string& config, const std::string& input, const std::string& output, const std::vector<std::string>& sets) {
+  Outcome o;
+  PipelineOptions po;
+  po.input = input;
+  po.output = output;
+  po.sets = sets;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    const PipelineResult r = Pipeline::load(config, po).run();
+    o.status = r.status;
+    o.mesh = read_mesh(output);
+    o.ok = true;
+  } catch (const std::exception& e) {
+    o.error = e.what();
+  }
+  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return o;
+}
+
+std::vector<Vec3> finite_points(const PointCloud& c) {
+  std::vector<Vec3> out;
+  for (const Vec3& p : c.points)
+    if (p.allFinite()) out.push_back(p);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  fs::path data = "../shared/data";
+  std::string config = "configs/scan_to_mesh.yaml";
+  bool clouds = true, scans = true;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--config") && i + 1 < argc) config = argv[++i];
+    else if (!std::strcmp(argv[i], "--clouds-only")) scans = false;
+    else if (!std::strcmp(argv[i], "--scans-only")) clouds = false;
+    else data = argv[i];
+  }
+  if (!fs::is_directory(data / "clouds")) {
+    std::printf("skipped: %s not found\n", (data / "clouds").c_str());
+    return 0;
+  }
+  const fs::path tmp = fs::temp_directory_path() / ("scanmesh_methods_" + std::to_string(::getpid()));
+  fs::create_directories(tmp);
+  const std::string out = (tmp / "out.ply").string();
+
+  if (clouds) {
+    std::printf("## Real clouds (no truth): coverage = points within 2 spacings of the final mesh\n\n");
+    std::printf("| cloud | method | status | coverage | holes | gaps | pieces | p95 distance | seconds |\n|---|---|---|---|---|---|---|---|---|\n");
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(data / "clouds"))
+      if (e.is_regular_file() && holds_cloud(e.path().string())) files.push_back(e.path());
+    for (const char* scan : {"bun000.ply", "bun045.ply", "bun090.ply"})
+      if (fs::exists(data / "clouds" / "bunny-range-scans" / scan)) files.push_back(data / "clouds" / "bunny-range-scans" / scan);
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      const PointCloud cloud = read_cloud(f.string());
+      const double spacing = measure_scale(cloud).spacing;
+      for (const auto& m : methods()) {
+        if (cloud.organized() && std::string(m.name) != "auto (main job)") {
+          if (std::string(m.name) != "gp3") continue;  // organized frames: auto (organized meshing) against gp3 only
+        }
+        const Outcome o = run(config, f.string(), out, m.sets);
+        if (!o.ok) {
+          std::printf("| %s | %s | failed: %s | | | | | | %.2f |\n", f.filename().c_str(), m.name, o.error.c_str(), o.seconds);
+          continue;
+        }
+        const ScanFit fit = measure_scan_fit(o.mesh, cloud.points, spacing, cloud.organized() && std::string(m.name) == "auto (main job)");
+        std::printf("| %s | %s | %s | %.2f%% | %zu | %zu | %zu | %.3g | %.2f |\n", f.filename().c_str(), m.name, o.status.c_str(),
+                    100.0 * fit.coverage, fit.holes, fit.gaps, fit.pieces, fit.distance_p95, o.seconds);
+        std::fflush(stdout);
+      }
+    }
+  }
+
+  if (scans) {
+    std::printf("\n## Sparse virtual scans of complete objects (truth known): 4 views of 96 x 72 pixels, noise 0.2\n\n");
+    std::printf("| model | points | method | status | normal error (deg) | E_v / diag | coverage of the scanned surface | seconds |\n"
+                "|---|---|---|---|---|---|---|---|\n");
+    const std::vector<std::pair<std::string, fs::path>> models = {
+        {"bunny", data / "pairs" / "bunny-0.2" / "clean.obj"}, {"fandisk", data / "pairs" / "fandisk-0.3" / "clean.obj"},
+        {"spot", data / "train" / "spot.obj"},                 {"homer", data / "train" / "homer.obj"},
+        {"rocker-arm", data / "train" / "rocker-arm.obj"},     {"cow", data / "train" / "cow.obj"}};
+    for (const auto& [name, file] : models) {
+      if (!fs::exists(file)) continue;
+      const Mesh clean = read_mesh(file.string());
+      VirtualScanOptions vo;
+      vo.views = 4;
+      vo.width = 96;
+      vo.height = 72;
+      vo.noise = 0.2;
+      const PointCloud scan = merge_views(virtual_scan(clean, vo));
+      const std::string scan_file = (tmp / (name + ".ply")).string();
+      write_cloud_ply(scan, scan_file);
+      const double spacing = measure_scale(scan).spacing;
+      for (const auto& m : methods()) {
+        const Outcome o = run(config, scan_file, out, m.sets);
+        if (!o.ok) {
+          std::printf("| %s | %zu | %s | failed: %s | | | | %.2f |\n", name.c_str(), scan.size(), m.name, o.error.c_str(), o.seconds);
+          continue;
+        }
+        const MeshMetrics mm = evaluate(o.mesh, &clean);
+        std::printf("| %s | %zu | %s | %s | %.2f | %.3e | %.1f%% | %.2f |\n", name.c_str(), scan.size(), m.name, o.status.c_str(),
+                    nearest_face_normal_error(o.mesh, clean), mm.ev_relative,
+                    100.0 * scanned_coverage(o.mesh, clean, finite_points(scan), 2.0 * spacing), o.seconds);
+        std::fflush(stdout);
+      }
+    }
+  }
+  fs::remove_all(tmp);
+  return 0;
+}
