@@ -1,6 +1,8 @@
 // End-to-end tests of the scanmesh command line: exit codes, messages, no partial outputs,
 // inputs untouched, thread-count independence.
 #include <gtest/gtest.h>
+
+#include "scanmesh/pipeline.h"
 #include <sys/wait.h>
 
 #include <filesystem>
@@ -156,7 +158,7 @@ TEST_F(Cli, MeshesACloudAndRejectsBadClouds) {
     EXPECT_FALSE(fs::exists(out));
   }
   EXPECT_EQ(run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("x.ply") + " --method magic").code, 2);
-  EXPECT_EQ(run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("x.ply") + " --radius far").code, 2);
+  EXPECT_EQ(run("mesh " + std::string(SCANMESH_DATA_DIR) + "/bun0.pcd " + path("x.ply") + " --gp3-radius far").code, 2);
 }
 
 TEST_F(Cli, PipelineMatchesTheSubcommandsAndWritesAReport) {
@@ -186,6 +188,75 @@ TEST_F(Cli, PipelineMatchesTheSubcommandsAndWritesAReport) {
   r = run("run " + config + " --set mesh.gp3_radiuss=3*spacing");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("did you mean 'gp3_radius'"), std::string::npos) << r.err;
+}
+
+namespace {
+
+std::string squeeze(const std::string& text) {  // whitespace runs as one space (help text is wrapped)
+  std::string out;
+  for (char c : text) {
+    const bool space = c == ' ' || c == '\n' || c == '\t';
+    if (space && (out.empty() || out.back() == ' ')) continue;
+    out += space ? ' ' : c;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_F(Cli, EveryVerbsHelpIsItsStagesSchema) {
+  // The flags, defaults, ranges and texts of `scanmesh VERB --help` against the options structs' schemas:
+  // a default, range or doc changed in one place and not the other fails here.
+  scanmesh::register_scan_stages();
+  const std::vector<std::pair<std::string, std::vector<std::string>>> verbs = {
+      {"denoise", {"mesh.denoise", "write"}},
+      {"noise", {"mesh.noise", "write"}},
+      {"mesh", {"read", "cloud.dequantize", "cloud.voxel", "cloud.outliers", "cloud.normals", "mesh.auto", "mesh.cleanup", "write"}},
+      {"scan", {"scan.virtual", "write"}}};
+  for (const auto& [verb, stages] : verbs) {
+    const Result r = run(verb + " --help");
+    ASSERT_EQ(r.code, 0) << verb;
+    const std::string help = squeeze(r.out);
+    std::size_t checked = 0;
+    for (const auto& type : stages)
+      for (const auto& o : scanmesh::stage_options(type)) {
+        if (o.info.name == "filename") continue;
+        const std::string flag = o.info.flag();
+        EXPECT_NE(help.find(flag), std::string::npos) << verb << ": " << flag;
+        EXPECT_NE(help.find(squeeze(o.info.doc + " [" + o.info.domain() + "; default " + o.default_value + "]")), std::string::npos)
+            << verb << " " << flag << ": doc, range or default differ from the schema";
+        ++checked;
+      }
+    EXPECT_GT(checked, 0u) << verb;
+  }
+}
+
+TEST_F(Cli, TheReadmeOptionTablesAreTheSchema) {
+  const Result r = run("options --markdown");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string readme = scanmesh::read_file(std::string(SCANMESH_DATA_DIR) + "/../README.md");
+  const std::string begin = "<!-- options:begin (scanmesh options --markdown) -->\n", end = "<!-- options:end -->";
+  const std::size_t a = readme.find(begin), b = readme.find(end);
+  ASSERT_NE(a, std::string::npos);
+  ASSERT_NE(b, std::string::npos);
+  EXPECT_EQ(readme.substr(a + begin.size(), b - a - begin.size()), r.out)
+      << "README.md's options tables differ from the schemas; regenerate them with build/bin/scanmesh options --markdown";
+}
+
+TEST_F(Cli, ACloudThatMeshesToNothingFailsAlikeInMeshAndRun) {
+  const std::string cloud = write("six.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 3\n9 9 9\n");
+  const Result m = run("mesh " + cloud + " " + path("m.ply"));
+  const std::string config = std::string(SCANMESH_DATA_DIR) + "/../configs/scan_to_mesh.yaml";
+  const Result p = run("run " + config + " --input " + cloud + " --output " + path("p.ply"));
+  EXPECT_EQ(m.code, 1) << m.err;
+  EXPECT_EQ(p.code, 1) << p.err;
+  // One check, one message: the same reason through both, the command line's naming the file.
+  const std::string reason = "meshing produced no triangles (too few points, or try a larger gp3_radius)";
+  EXPECT_NE(m.err.find(cloud + ": mesh.auto: " + reason), std::string::npos) << m.err;
+  EXPECT_NE(p.err.find(reason), std::string::npos) << p.err;
+  EXPECT_FALSE(fs::exists(path("m.ply")));
+  EXPECT_FALSE(fs::exists(path("p.ply")));
+  EXPECT_NE(scanmesh::read_file(path("p.report.json")).find("\"status\": \"failed\""), std::string::npos);
 }
 
 TEST_F(Cli, HelpExplainsEveryParameter) {

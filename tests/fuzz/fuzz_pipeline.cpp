@@ -6,6 +6,11 @@
 
 #include "scanmesh/pipeline.h"
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  scanmesh::register_scan_stages();
+  return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
     (void)scanmesh::Pipeline::parse(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yaml", {});

@@ -42,15 +42,6 @@ bool parse(const std::vector<std::string>& args, const po::options_description& 
   return true;
 }
 
-void check_output_path(const std::string& in, const std::string& out) {
-  if (!is_mesh_extension(lower_extension(out)))
-    throw UsageError("output '" + out + "': unknown mesh format '" + lower_extension(out) +
-                     "'; supported: .obj .off .ply .stl");
-  if (in == out || same_file(in, out))
-    throw UsageError("output '" + out + "' is the input file; scanmesh never overwrites its input");
-  check_writable(out);  // a missing or read-only folder fails now, not after the work
-}
-
 Progress::Progress(std::string label, bool quiet)
     : label_(std::move(label)), quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
 

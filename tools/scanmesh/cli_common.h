@@ -17,10 +17,6 @@ bool parse(const std::vector<std::string>& args, const po::options_description& 
            const std::vector<std::string>& positional, po::variables_map& vm, const std::string& usage,
            const std::string& details);
 
-/// Throws UsageError unless `out` is a different file from `in` and has a known mesh extension, and
-/// OutputError unless its folder exists and is writable.
-void check_output_path(const std::string& in, const std::string& out);
-
 /// Progress bar on a terminal, plain lines otherwise; silent with --quiet.
 class Progress {
  public:
@@ -45,11 +41,10 @@ double memory_limit_mb();
 /// Prints warnings to stderr unless quiet.
 void print_warnings(const std::vector<std::string>& warnings, bool quiet);
 
-int run_denoise(const std::vector<std::string>& args);
-int run_noise(const std::vector<std::string>& args);
+/// True for the commands that are pipelines (denoise, noise, mesh, scan); run_verb runs them.
+bool is_pipeline_verb(const std::string& name);
+int run_verb(const std::string& name, const std::vector<std::string>& args);
 int run_eval(const std::vector<std::string>& args);
-int run_mesh(const std::vector<std::string>& args);
-int run_scan(const std::vector<std::string>& args);
 int run_pipeline(const std::vector<std::string>& args);
 
 }  // namespace scanmesh::cli

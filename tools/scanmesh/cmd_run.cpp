@@ -24,13 +24,16 @@ int run_pipeline(const std::vector<std::string>& args) {
     ("threads", po::value<int>()->default_value(0), "threads (0 = all cores); outputs do not depend on it")
     ("quiet,q", po::bool_switch(), "print errors only");
   po::variables_map vm;
+  std::string types;
+  for (const auto& t : stage_types()) types += (types.empty() ? "" : ", ") + t;
   if (!parse(args, o, {"PIPELINE"}, vm, "scanmesh run PIPELINE.yaml [options]",
              "Runs a YAML pipeline (PDAL-style): a 'pipeline:' list whose first bare file name is the reader and last\n"
-             "the writer; stages are maps with 'type' (cloud.crop, cloud.voxel, cloud.outliers, cloud.normals,\n"
-             "cloud.mls, mesh.auto, mesh.gp3, mesh.organized, mesh.poisson, mesh.cleanup, mesh.denoise, mesh.noise,\n"
-             "scan.virtual, report), optional 'tag' and 'inputs'; other keys are the stage's options, named like the\n"
-             "command-line flags with underscores. Exit codes: 0 ok (or skipped), 1 failed on the data, 2 bad\n"
-             "configuration (the message names FILE:LINE, the stage, the key and the valid choices)."))
+             "the writer; stages are maps with 'type' (" + types + "), optional 'tag' and 'inputs' (the tags of earlier\n"
+             "stages to take data from; cloud.merge and cloud.register take several); other keys are the stage's\n"
+             "options (scanmesh options TYPE lists them; a key is the command-line flag with '_' for '-'). A run whose\n"
+             "mesh falls short of its scan is written with status 'degraded' in its sidecar (exit 1 with --strict).\n"
+             "Exit codes: 0 ok (or skipped), 1 failed on the data, 2 bad configuration (the message names FILE:LINE,\n"
+             "the stage, the key and the valid choices)."))
     return kOk;
   const bool quiet = vm["quiet"].as<bool>();
   if (vm["threads"].as<int>() < 0) throw UsageError("--threads must be >= 0");

@@ -85,6 +85,15 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     d.fit = std::move(gf);
     return g;
   }
+  // An implicit surface needs samples to be fitted to: below a hundred points Poisson only invents a blob.
+  constexpr std::size_t kMinPoissonPoints = 100;
+  if (points.size() < kMinPoissonPoints) {
+    d.method = MeshMethod::gp3;
+    d.reason = "greedy projection " + fit_words(gf, limits) + "; too few points (" + std::to_string(points.size()) +
+               ") for Poisson: greedy projection";
+    d.fit = std::move(gf);
+    return g;
+  }
   Mesh p;
   try {
     p = triangulate_poisson(cloud, poisson, scale);

@@ -68,6 +68,7 @@ void Binder::options(OptionSet& set) {
   for (std::size_t i = 0; i < set.size(); ++i) {
     const FieldInfo& f = set.info(i);
     names_.push_back(f.name);
+    fields_.push_back({f, set.default_value(i)});
     const YAML::Node n = take(f.name);
     if (!n.IsDefined() || n.IsNull()) continue;  // absent (take() returns a null node then)
     std::string text;

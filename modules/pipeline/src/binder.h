@@ -40,6 +40,8 @@ class Binder {
   /// Throws for keys no field consumed.
   void finish() const;
   [[nodiscard]] const std::vector<std::string>& names() const { return names_; }
+  /// Every field met, with its default value's text (schema mode and binding alike).
+  [[nodiscard]] const std::vector<StageOption>& fields() const { return fields_; }
 
  private:
   YAML::Node take(const std::string& key);
@@ -48,6 +50,7 @@ class Binder {
   Where where_;
   bool active_ = false;
   std::vector<std::string> names_;
+  std::vector<StageOption> fields_;
   std::set<std::string> used_;
 };
 

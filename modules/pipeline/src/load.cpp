@@ -19,34 +19,57 @@ namespace {
 
 // Readers' files exist and have a known format, writers' formats are known and their folders writable,
 // and no stage writes over a file the pipeline reads.
+// A pipeline built from a command line names its files as arguments: a missing or unreadable input is
+// bad input (exit 1), named by the file; in a YAML file it is a configuration error at its line.
+[[noreturn]] void file_problem(const Pipeline::Impl& impl, const detail::StageSlot& s, const std::string& key, const std::string& file,
+                               const std::string& what) {
+  if (impl.path.empty()) throw InputError("'" + file + "': " + what);
+  throw ConfigError(s.where.prefix() + ": key '" + key + "': '" + file + "': " + what);
+}
+
 void check_files(Pipeline::Impl& impl) {
   std::vector<std::string> inputs;
   for (auto& s : impl.slots) {
     for (const std::string& f : s.stage->files_read()) {
       const std::string key = s.where.type == "read" ? "filename" : "reference";
+      std::error_code ec;
+      if (!std::filesystem::exists(f, ec)) file_problem(impl, s, key, f, "No such file");
+      if (std::filesystem::is_directory(f, ec))
+        file_problem(impl, s, key, f, "is a folder; give one file (several views go into one mesh with cloud.merge or cloud.register)");
       if (s.where.type == "read") {
         const std::string ext = lower_extension(f);
+        if (ext == ".las" || ext == ".laz" || ext == ".e57")
+          file_problem(impl, s, key, f,
+                       "LAS/LAZ/E57 have no reader here (no Debian library); convert to PLY or PCD first, e.g. "
+                       "'pdal translate in" + ext + " out.ply' or CloudCompare's 'Save as PLY'");
         if (!is_mesh_extension(ext) && !is_cloud_extension(ext))
-          throw ConfigError(s.where.prefix() + ": key 'filename': unknown format '" + ext + "'; readers: .ply .obj .off .stl .pcd .xyz .txt .pts");
+          file_problem(impl, s, key, f, "unknown format '" + (ext.empty() ? std::string("(no extension)") : ext) +
+                                            "'; readers: .ply .obj .off .stl (meshes), .pcd .ply .xyz .txt .csv .pts (clouds)");
       }
-      if (!std::filesystem::exists(f)) throw ConfigError(s.where.prefix() + ": key '" + key + "': file '" + f + "' does not exist");
       inputs.push_back(f);
     }
     for (const std::string& f : s.stage->files_written()) {
       const std::string ext = lower_extension(f);
-      if (!is_mesh_extension(ext) && ext != ".pcd")
-        throw ConfigError(s.where.prefix() + ": key 'filename': unknown output format '" + ext + "'; writers: .ply .obj .off .stl (mesh), .ply .pcd (cloud)");
+      if (!is_mesh_extension(ext) && ext != ".pcd") {
+        const std::string what = "unknown output format '" + (ext.empty() ? std::string("(no extension)") : ext) +
+                                 "'; writers: .ply .obj .off .stl (mesh), .ply .pcd (cloud)";
+        if (impl.path.empty()) throw UsageError("output '" + f + "': " + what);
+        throw ConfigError(s.where.prefix() + ": key 'filename': " + what);
+      }
       impl.output = f;
     }
   }
   for (auto& s : impl.slots)
     for (const std::string& f : s.stage->files_written()) {
       for (const auto& in : inputs)
-        if (f == in || same_file(f, in))
+        if (f == in || same_file(f, in)) {
+          if (impl.path.empty()) throw UsageError("output '" + f + "' is the input file; scanmesh never overwrites its input");
           throw ConfigError(s.where.prefix() + ": key 'filename': '" + f + "' is an input of this pipeline; scanmesh never overwrites its input");
+        }
       try {
         check_writable(f);
       } catch (const OutputError& e) {
+        if (impl.path.empty()) throw;
         throw ConfigError(s.where.prefix() + ": key 'filename': " + e.what());
       }
     }

@@ -4,7 +4,9 @@
 
 namespace scanmesh::detail {
 
-void StageRegistry::add(const std::string& type, StageFactory make) { types_.emplace_back(type, std::move(make)); }
+void StageRegistry::add(const std::string& type, StageFactory make) {
+  if (!find(type)) types_.emplace_back(type, std::move(make));
+}
 
 const StageFactory* StageRegistry::find(const std::string& type) const {
   for (const auto& [name, make] : types_)
@@ -18,15 +20,11 @@ std::vector<std::string> StageRegistry::types() const {
   return out;
 }
 
-const StageRegistry& stage_registry() {
-  static const StageRegistry r = [] {
+StageRegistry& stage_registry() {
+  static StageRegistry r = [] {
     StageRegistry x;
     register_io_stages(x);
-    register_cloud_stages(x);
-    register_mesh_stages(x);
     register_denoise_stages(x);
-    register_scan_stages(x);
-    register_report_stages(x);
     return x;
   }();
   return r;
@@ -53,6 +51,16 @@ Mesh& need_mesh(Data& d, const char* stage) {
 }  // namespace scanmesh::detail
 
 namespace scanmesh {
+
+std::vector<std::string> stage_types() { return detail::stage_registry().types(); }
+
+std::vector<StageOption> stage_options(const std::string& type) {
+  const detail::StageFactory* make = detail::stage_registry().find(type);
+  if (!make) throw ConfigError("unknown stage type '" + type + "'; valid: " + detail::join(stage_types()));
+  detail::Binder b;
+  (*make)()->bind(b);
+  return b.fields();
+}
 
 std::vector<std::pair<std::string, std::vector<std::string>>> pipeline_schema() {
   std::vector<std::pair<std::string, std::vector<std::string>>> out;

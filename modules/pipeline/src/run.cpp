@@ -59,6 +59,8 @@ PipelineResult Pipeline::run() {
           s.stage->run(data, ctx);
         }
       } catch (const Error& e) {
+        // A command line's pipeline is named by its input file; a YAML pipeline's stage by FILE:LINE.
+        if (impl_->path.empty() && !report.input_path.empty()) throw InputError(report.input_path + ": " + s.where.type + ": " + e.what());
         throw InputError(s.where.prefix() + ": " + e.what());
       }
       StageRecord rec;
@@ -77,23 +79,26 @@ PipelineResult Pipeline::run() {
       report.stages.push_back(rec);
       if (impl_->options.log) {
         char line[1024];
-        std::snprintf(line, sizeof line, "%-15s %7.3f s  %zu points, %zu faces%s%s", rec.type.c_str(), rec.seconds, rec.points, rec.faces,
-                      rec.details.empty() ? "" : "  ", rec.details.c_str());
+        const std::string counts = (rec.points ? std::to_string(rec.points) + " points" : std::string()) +
+                                   (rec.points && rec.faces ? ", " : "") + (rec.faces ? std::to_string(rec.faces) + " faces" : std::string());
+        std::snprintf(line, sizeof line, "%-16s %7.3f s  %s%s%s", rec.type.c_str(), rec.seconds, counts.c_str(), rec.details.empty() ? "" : "  ",
+                      rec.details.c_str());
         impl_->options.log(line);
       }
       if (!s.where.tag.empty()) tagged[s.where.tag] = data;
     }
     // Does the mesh still represent the scan it was made from? (Measured once; the report shows it.)
-    std::optional<ScanFit> fit;
+    std::shared_ptr<ScanFit> fit;
     if (data.mesh && data.meshed && !data.meshed->points.empty()) {
-      fit = measure_scan_fit(*data.mesh, data.meshed->points, data.meshed->spacing, data.meshed->from_grid);
+      fit = std::make_shared<ScanFit>(measure_scan_fit(*data.mesh, data.meshed->points, data.meshed->spacing, data.meshed->from_grid));
       for (const std::string& p : scan_fit_problems(*fit)) {
         ctx.problems.push_back(p);
         ctx.warnings.push_back("degraded: " + p);
       }
       if (impl_->options.log) impl_->options.log("scan fit: " + scan_fit_summary(*fit));
     }
-    report.scan_fit = fit ? &*fit : nullptr;
+    report.scan_fit = fit.get();
+    result.scan_fit = fit;
     report.scan_points = fit ? &data.meshed->points : nullptr;
     if (data.cloud && data.cloud->sensor_origin) {
       report.sensor = data.cloud->sensor_origin;
@@ -121,8 +126,8 @@ PipelineResult Pipeline::run() {
   if (data.mesh) {
     const TopologyStats t = topology_stats(*data.mesh);
     char line[256];
-    std::snprintf(line, sizeof line, "%zu vertices, %zu faces, %zu boundary loops, %zu components", t.vertices, t.faces, t.boundary_loops,
-                  t.components);
+    std::snprintf(line, sizeof line, "%zu vertices, %zu faces, %zu boundary loop%s, %zu piece%s", t.vertices, t.faces, t.boundary_loops,
+                  t.boundary_loops == 1 ? "" : "s", t.components, t.components == 1 ? "" : "s");
     result.summary = line;
   } else if (data.cloud) {
     result.summary = std::to_string(data.cloud->finite_count()) + " points";

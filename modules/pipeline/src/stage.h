@@ -82,7 +82,7 @@ using StageFactory = std::function<std::unique_ptr<Stage>()>;
 /// Stage types by name, in registration order.
 class StageRegistry {
  public:
-  void add(const std::string& type, StageFactory make);
+  void add(const std::string& type, StageFactory make);  ///< a type registered again is ignored
   /// nullptr if unknown.
   [[nodiscard]] const StageFactory* find(const std::string& type) const;
   [[nodiscard]] std::vector<std::string> types() const;
@@ -91,15 +91,17 @@ class StageRegistry {
   std::vector<std::pair<std::string, StageFactory>> types_;
 };
 
-/// Every stage type this program knows.
-const StageRegistry& stage_registry();
+/// Every stage type this program knows: read, write, mesh.denoise and mesh.noise always; the PCL, VTK
+/// and OpenCV families once register_scan_stages() (pipeline.h) has run.
+StageRegistry& stage_registry();
 
-/// The families (one stages_*.cpp each).
+/// The families (one stages_*.cpp each). The first two are in this library; the others in
+/// scanmesh_pipeline_scans.
 void register_io_stages(StageRegistry& r);
+void register_denoise_stages(StageRegistry& r);
 void register_cloud_stages(StageRegistry& r);
 void register_mesh_stages(StageRegistry& r);
-void register_denoise_stages(StageRegistry& r);
-void register_scan_stages(StageRegistry& r);
+void register_virtual_scan_stages(StageRegistry& r);
 void register_report_stages(StageRegistry& r);
 
 /// Binds `options` of type O through its schema; `given` receives the names set explicitly.

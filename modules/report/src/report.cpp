@@ -226,12 +226,6 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
 
 }  // namespace
 
-ReportPaths report_paths(const std::string& output_path) {
-  std::filesystem::path p(output_path);
-  const std::string stem = (p.parent_path() / p.stem()).string();
-  return {stem + ".report.json", stem + ".report", stem + ".report.html"};
-}
-
 void write_failure_sidecar(const ReportInput& input, const std::string& error) {
   write_file_atomically(report_paths(input.output_path).json, detail::sidecar_json(input, nullptr, error));
 }

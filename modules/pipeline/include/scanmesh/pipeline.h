@@ -15,8 +15,11 @@
 #include <vector>
 
 #include "scanmesh/errors.h"
+#include "scanmesh/schema.h"
 
 namespace scanmesh {
+
+struct ScanFit;
 
 /// A configuration error: bad YAML, unknown stage type or key, wrong value type, missing file, unknown tag.
 class ConfigError : public UsageError {
@@ -51,6 +54,8 @@ struct PipelineResult {
   /// out, has holes where the scan has data, or faces of opposite orientation); `problems` says how.
   std::string status = "ok";
   std::vector<std::string> problems;
+  /// The final mesh against the points it was made from (pipelines that mesh a cloud), else null.
+  std::shared_ptr<const ScanFit> scan_fit;
   std::string summary;                    ///< what came out: "V vertices, F faces, B boundary loops, C components"
   double seconds = 0.0;
 };
@@ -84,7 +89,25 @@ class Pipeline {
   std::unique_ptr<Impl> impl_;
 };
 
+/// One option of a stage type, as its options struct's schema describes it.
+struct StageOption {
+  FieldInfo info;             ///< name (YAML key; the flag is --name-with-dashes), unit, range, doc
+  std::string default_value;  ///< the default's text
+};
+
+/// The stage types this program knows, in registration order.
+std::vector<std::string> stage_types();
+
+/// The options of a stage type (what its YAML map, its command-line flags, --help and the README's
+/// tables offer). Throws ConfigError for an unknown type.
+std::vector<StageOption> stage_options(const std::string& type);
+
 /// Stage types and, per type, its option names (for help texts and "did you mean").
 std::vector<std::pair<std::string, std::vector<std::string>>> pipeline_schema();
+
+/// Adds the stage families that need PCL, VTK or OpenCV (cloud.*, mesh.auto, mesh.gp3, mesh.organized,
+/// mesh.poisson, mesh.cleanup, scan.virtual, report) to the registry; without them a pipeline knows read,
+/// write, mesh.denoise and mesh.noise. Defined in the scanmesh_pipeline_scans library; idempotent.
+void register_scan_stages();
 
 }  // namespace scanmesh

@@ -2,6 +2,7 @@
 // Quality reports a person can look at: for an output OUT.ext, OUT.report.json (the sidecar),
 // OUT.report/ with PNG figures rendered by OpenCV (histograms and views of the mesh), and OUT.report.html,
 // one self-contained page showing all of it. Options struct = schema of the `report` pipeline stage.
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
@@ -71,7 +72,11 @@ struct ReportInput {
 struct ReportPaths {
   std::string json, folder, html;
 };
-ReportPaths report_paths(const std::string& output_path);
+inline ReportPaths report_paths(const std::string& output_path) {
+  const std::filesystem::path p(output_path);
+  const std::string stem = (p.parent_path() / p.stem()).string();
+  return {stem + ".report.json", stem + ".report", stem + ".report.html"};
+}
 
 /// Writes the sidecar and, with options.figures, the figures and the page into `outputs` (visible when
 /// the caller commits them). Returns the figure files.

@@ -1,0 +1,159 @@
+// The command table, shared by the two executables: `scanmesh` (light: denoise, noise, eval, without PCL,
+// VTK or OpenCV, so it starts fast) and `scanmesh-full` (every command). The light one hands commands
+// that need the scan stages to the full one, installed beside it or under ../libexec/scanmesh/.
+#include "cli.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <new>
+
+#include "cli_common.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/pipeline.h"
+
+namespace scanmesh::cli {
+namespace {
+
+const char* kHelp =
+    "scanmesh " SCANMESH_VERSION " - from raw 3D scans to clean, high-fidelity triangle meshes\n"
+    "\n"
+    "usage: scanmesh COMMAND [ARGS] [--help]\n"
+    "\n"
+    "commands:\n"
+    "  run PIPELINE     run a YAML pipeline (see configs/): scan -> mesh -> denoise -> report\n"
+    "  mesh CLOUD OUT   point cloud (.pcd .ply .xyz .txt .csv .pts) -> cleaned triangle mesh\n"
+    "  scan MESH OUT    virtual depth scanner: a noisy cloud of a clean mesh from several views\n"
+    "  denoise IN OUT   robust two-stage mesh denoising (Yadav et al. 2019); --auto picks the parameters\n"
+    "  noise IN OUT     add synthetic noise (gaussian, uniform, impulsive) for experiments\n"
+    "  eval MESH        quality metrics; against a reference mesh or the cloud it was made from (--reference)\n"
+    "  options [TYPE]   every stage's options: name, unit, range, default, meaning (--markdown for tables)\n"
+    "  version          print the version\n"
+    "\n"
+    "Mesh formats: .obj .off .ply .stl (ascii and binary). 'scanmesh COMMAND --help' lists a command's options;\n"
+    "a command's flag is the YAML key of the same option in a pipeline, with '-' for '_'.\n";
+
+// Commands only the full executable has (they need PCL, VTK or OpenCV).
+bool needs_full(const std::string& command, const std::vector<std::string>& args) {
+  if (command == "mesh" || command == "scan" || command == "run" || command == "options") return true;
+  for (const auto& a : args)
+    if (a == "--report") return true;
+  return false;
+}
+
+[[noreturn]] void exec_full(char** argv) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path dir = (ec ? std::filesystem::path(argv[0]) : self).parent_path();
+  for (const auto& candidate : {dir / "scanmesh-full", dir / ".." / "libexec" / "scanmesh" / "scanmesh-full"})
+    if (std::filesystem::exists(candidate)) {
+      ::execv(candidate.c_str(), argv);
+      std::fprintf(stderr, "scanmesh %s: error: cannot start '%s': %s\n", argv[1], candidate.c_str(), std::strerror(errno));
+      std::exit(kBadInput);
+    }
+  std::fprintf(stderr, "scanmesh %s: error: this command needs scanmesh-full, which is installed beside scanmesh or in "
+               "../libexec/scanmesh/; it was not found next to %s\n", argv[1], dir.c_str());
+  std::exit(kBadInput);
+}
+
+// Idle OpenMP threads spin for a while by default; on a busy machine (batch jobs side by side) that makes
+// every parallel loop many times slower. Passive waiting is read from the environment when the OpenMP
+// runtime starts, so the process re-executes itself once with it set (unless the user chose a policy).
+void prefer_passive_waiting(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("SCANMESH_NO_REEXEC") != nullptr) return;
+  ::setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+  ::execv("/proc/self/exe", argv);  // on failure: carry on with the default policy
+}
+
+int options_command(const std::vector<std::string>& args) {
+  bool markdown = false;
+  std::vector<std::string> types;
+  for (const auto& a : args) {
+    if (a == "--markdown") markdown = true;
+    else if (a == "--help" || a == "-h") {
+      std::cout << "usage: scanmesh options [--markdown] [STAGE_TYPE ...]\n\nEvery option of every stage type (or of the ones named): "
+                   "name, unit and range, default, meaning.\n--markdown prints the tables the README shows.\n";
+      return kOk;
+    } else {
+      types.push_back(a);
+    }
+  }
+  if (types.empty()) types = stage_types();
+  for (const auto& t : types) {
+    const std::vector<StageOption> opts = stage_options(t);
+    if (markdown) {
+      std::cout << "\n`" << t << "`" << (opts.empty() ? ": no options\n" : "\n\n| key / flag | value | default | meaning |\n|---|---|---|---|\n");
+      auto cell = [](const std::string& text) {  // a table cell: '|' escaped
+        std::string out;
+        for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+        return out;
+      };
+      for (const auto& o : opts) {
+        const std::string flag = o.info.name == "filename" ? "(argument)" : "`" + o.info.flag() + "`";
+        std::cout << "| `" << o.info.name << "` / " << flag << " | " << cell(o.info.domain()) << " | " << cell(o.default_value) << " | "
+                  << cell(o.info.doc) << " |\n";
+      }
+    } else {
+      std::cout << t << ":\n";
+      for (const auto& o : opts)
+        std::cout << "  " << o.info.name << " (" << o.info.flag() << "): " << o.info.domain() << "; default " << o.default_value << "\n      "
+                  << o.info.doc << "\n";
+    }
+  }
+  return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv, void (*add_scan_stages)()) {
+  const bool full = add_scan_stages != nullptr;
+  prefer_passive_waiting(argv);
+  if (argc < 2) {
+    std::cerr << kHelp;
+    return kBadUsage;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (!full && needs_full(command, args)) exec_full(argv);
+  if (full) add_scan_stages();
+  install_memory_guard(command);
+  try {
+    if (is_pipeline_verb(command)) return run_verb(command, args);
+    if (command == "eval") return run_eval(args);
+    if (command == "run") return run_pipeline(args);
+    if (command == "options") return options_command(args);
+    if (command == "version" || command == "--version") {
+      std::cout << "scanmesh " SCANMESH_VERSION "\n";
+      return kOk;
+    }
+    if (command == "help" || command == "--help" || command == "-h") {
+      std::cout << kHelp;
+      return kOk;
+    }
+    std::cerr << "scanmesh: unknown command '" << command << "'; commands: run, mesh, scan, denoise, noise, eval, options, version\n";
+    return kBadUsage;
+  } catch (const UsageError& e) {
+    std::cerr << "scanmesh " << command << ": error: " << e.what() << "\n";
+    return kBadUsage;
+  } catch (const InputError& e) {
+    std::cerr << "scanmesh " << command << ": error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const OutputError& e) {
+    std::cerr << "scanmesh " << command << ": error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "scanmesh " << command << ": error: out of memory (limit " << memory_limit_mb()
+              << " MB: the machine's physical memory, or SCANMESH_MAX_MEMORY_MB)\n";
+    return kBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "scanmesh " << command << ": internal error: " << e.what() << "\n";
+    return kBadInput;
+  }
+}
+
+}  // namespace scanmesh::cli
