@@ -23,6 +23,9 @@ std::string write_stl(const Mesh& mesh, bool binary);
 /// Appends fan triangles of a polygon; counts polygons with more than three corners.
 void add_polygon(Mesh& mesh, const std::vector<int>& corners, std::size_t& polygons_split);
 
+/// The PLY header name of a scalar type ("float", "uchar", ...).
+const char* ply_type_name(ScalarType t);
+
 /// Colour properties (red, green, blue) if all three exist, else nullptrs.
 struct ColourView {
   const VertexProperty* r = nullptr;

@@ -65,6 +65,11 @@ void Binder::fail(const YAML::Node& n, const std::string& key, const std::string
 }
 
 void Binder::options(OptionSet& set) {
+  struct Record {  // whatever happens below, the values as they end up are recorded
+    Binder& b;
+    OptionSet& s;
+    ~Record() { b.record(s); }
+  } record{*this, set};
   for (std::size_t i = 0; i < set.size(); ++i) {
     const FieldInfo& f = set.info(i);
     names_.push_back(f.name);
@@ -103,6 +108,10 @@ void Binder::options(OptionSet& set) {
       fail(n, f.name, what);
     }
   }
+}
+
+void Binder::record(const OptionSet& set) {
+  for (std::size_t i = 0; i < set.size(); ++i) resolved_.emplace_back(set.info(i).name, set.get(i));
 }
 
 void Binder::finish() const {

@@ -42,15 +42,19 @@ class Binder {
   [[nodiscard]] const std::vector<std::string>& names() const { return names_; }
   /// Every field met, with its default value's text (schema mode and binding alike).
   [[nodiscard]] const std::vector<StageOption>& fields() const { return fields_; }
+  /// Every field met with the value it has after binding (given or default): the resolved configuration.
+  [[nodiscard]] const std::vector<std::pair<std::string, std::string>>& resolved() const { return resolved_; }
 
  private:
   YAML::Node take(const std::string& key);
+  void record(const OptionSet& set);
   [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const;
   YAML::Node node_;
   Where where_;
   bool active_ = false;
   std::vector<std::string> names_;
   std::vector<StageOption> fields_;
+  std::vector<std::pair<std::string, std::string>> resolved_;
   std::set<std::string> used_;
 };
 

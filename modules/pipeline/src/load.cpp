@@ -251,6 +251,7 @@ Pipeline Pipeline::finish(std::unique_ptr<Impl> impl) {
     Binder b(s.options, s.where);
     s.stage->bind(b);
     b.finish();
+    s.resolved = b.resolved();
     if (s.inputs.size() > 1 && !s.stage->takes_many_inputs())
       throw ConfigError(s.where.prefix(s.inputs_line) + ": key 'inputs': this stage takes one input; got " + std::to_string(s.inputs.size()) +
                         " (cloud.merge and cloud.register combine several)");

@@ -15,6 +15,7 @@ struct StageSlot {
   int inputs_line = 0;
   YAML::Node options;               ///< the stage's map (with marks for line numbers)
   std::unique_ptr<Stage> stage;
+  std::vector<std::pair<std::string, std::string>> resolved;  ///< every option's value after binding
 };
 }  // namespace detail
 

@@ -74,6 +74,7 @@ PipelineResult Pipeline::run() {
       rec.vertices = data.mesh ? data.mesh->num_vertices() : 0;
       rec.faces = data.mesh ? data.mesh->num_faces() : 0;
       rec.details = s.stage->details;
+      rec.options = s.resolved;
       rec.decision_text = s.stage->decision_text;
       rec.decision_numbers = s.stage->decision_numbers;
       report.stages.push_back(rec);

@@ -27,6 +27,9 @@ std::string sidecar_json(const ReportInput& in, const ReportContent* content, co
     w.begin_object();
     w.field("type", s.type).field("tag", s.tag).field("seconds", s.seconds).field("peak_memory_mb", s.peak_memory_mb);
     w.field("points", s.points).field("vertices", s.vertices).field("faces", s.faces).field("details", s.details);
+    w.key("options").begin_object();  // the resolved configuration: every option, given or default
+    for (const auto& [k, v] : s.options) w.field(k, v);
+    w.end_object();
     if (!s.decision_text.empty() || !s.decision_numbers.empty()) {
       w.key("decision").begin_object();
       for (const auto& [k, v] : s.decision_text) w.field(k, v);

@@ -38,6 +38,7 @@ struct StageRecord {
   double peak_memory_mb = 0.0;  ///< process peak resident memory after the stage
   std::size_t points = 0, vertices = 0, faces = 0;
   std::string details;          ///< e.g. the parameters --auto chose
+  std::vector<std::pair<std::string, std::string>> options;  ///< every option's value (given or default)
   /// What a deciding stage (mesh.denoise with auto) measured and chose, as named values: the sidecar's
   /// "decision" object and a table in the HTML page.
   std::vector<std::pair<std::string, std::string>> decision_text;
