@@ -43,13 +43,18 @@ std::vector<Vec3> smoothed_normals(const Mesh& mesh, const Topology& topo, const
   return g.normals;
 }
 
-std::size_t turned_faces(const std::vector<Vec3>& positions, const std::vector<Face>& faces, const std::vector<Vec3>& reference) {
-  std::size_t n = 0;
+// The share of the surface (by area) whose faces point against the reference normals: slivers (the
+// near-zero-area triangles of a scan's meshing, whose normals are noise) weigh nothing, a turned patch of
+// real surface weighs its size.
+double turned_area_share(const std::vector<Vec3>& positions, const std::vector<Face>& faces, const std::vector<Vec3>& reference) {
+  double turned = 0.0, total = 0.0;
   for (std::size_t f = 0; f < faces.size(); ++f) {
-    const Vec3 normal = triangle_normal(positions[faces[f][0]], positions[faces[f][1]], positions[faces[f][2]]);
-    n += normal.dot(reference[f]) < 0.0 ? 1 : 0;
+    double area = 0.0;
+    const Vec3 normal = triangle_normal(positions[faces[f][0]], positions[faces[f][1]], positions[faces[f][2]], &area);
+    total += area;
+    turned += normal.dot(reference[f]) < 0.0 ? area : 0.0;
   }
-  return n;
+  return total > 0.0 ? turned / total : 0.0;
 }
 
 double enclosed_volume(const std::vector<Vec3>& p, const std::vector<Face>& faces) {
@@ -89,15 +94,17 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
 
   // What the result check compares against.
   const std::vector<Vec3> reference = smoothed_normals(mesh, topo, geometry);
-  const std::size_t input_turned = turned_faces(mesh.positions, mesh.faces, reference);
+  const double input_turned = turned_area_share(mesh.positions, mesh.faces, reference);
   const bool closed = topo.num_boundary_edges() == 0 && topo.num_nonmanifold_edges() == 0;
   const double input_volume = closed ? enclosed_volume(mesh.positions, mesh.faces) : 0.0;
   const int cap = is_given("iterations") ? o.iterations : rules.max_iterations;
 
-  // Runs `opt` on `m` with the result check after every iteration: a step that turns more faces
-  // against the smoothed input than the input has, or changes a closed mesh's volume by more than the
-  // limit, is undone and ends the run. The discrepancy target ends it too, unless `probe` (asked after
-  // every accepted iteration) lifts it; the probe may also end the run.
+  // Runs `opt` on `m` with the result check after every iteration: an iteration passes unless it has more
+  // of the surface (by area) turned against the smoothed input than the input has, or a closed mesh's
+  // volume changed by more than the limit. A run goes on through failing iterations (the first steps on a
+  // scan's rough triangulation turn slivers and small facets that later ones straighten) and keeps the
+  // last iteration that passed (the input if none did). The discrepancy target ends it, unless `probe`
+  // (asked after every iteration) lifts it; the probe may also end the run.
   enum class Probe { go_on, stop, no_target };
   using ProbeFn = std::function<Probe(int, const std::vector<Vec3>&)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe) {
@@ -108,23 +115,18 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     inner.target_displacement = 0.0;  // applied below, where the probe can lift it
     std::vector<Vec3> accepted = m.positions;
     std::string verdict = "passed";
+    int last_pass = 0;
+    double last_turned = input_turned;
     DenoiseReport rep = denoise(m, inner, progress, [&](int it, const std::vector<Vec3>& pos) {
-      const std::size_t turned = turned_faces(pos, m.faces, reference);
-      if (static_cast<double>(turned) > std::max(static_cast<double>(input_turned), rules.turned_slack * static_cast<double>(m.faces.size()))) {
-        std::snprintf(line, sizeof line, "stopped after %d iterations: %zu faces turned against the smoothed input (input: %zu)",
-                      it - 1, turned, input_turned);
-        verdict = line;
-        return false;
+      const double turned = turned_area_share(pos, m.faces, reference);
+      bool fails = turned > std::max(input_turned, rules.turned_slack);
+      if (!fails && closed && std::abs(input_volume) > 0.0)
+        fails = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume) > rules.max_volume_change;
+      if (!fails) {
+        last_pass = it;
+        accepted = pos;
       }
-      if (closed && std::abs(input_volume) > 0.0) {
-        const double change = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume);
-        if (change > rules.max_volume_change) {
-          std::snprintf(line, sizeof line, "stopped after %d iterations: the volume would change by %.1f%%", it - 1, 100.0 * change);
-          verdict = line;
-          return false;
-        }
-      }
-      accepted = pos;
+      last_turned = turned;
       if (target_on && normal_displacement(topo, m.faces, start, pos) >= target) {
         reached = true;
         return false;
@@ -133,6 +135,13 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       if (next == Probe::no_target) target_on = false;
       return next != Probe::stop;
     });
+    if (last_pass < rep.iterations) {
+      std::snprintf(line, sizeof line,
+                    "the last %d iterations turned %.2f%% of the surface against the smoothed input (input: %.2f%%); iteration %d kept",
+                    rep.iterations - last_pass, 100.0 * last_turned, 100.0 * input_turned, last_pass);
+      verdict = line;
+      rep.iterations = last_pass + 1;  // (one is taken off below)
+    }
     m.positions = accepted;  // the last iteration that passed (denoise's own result otherwise)
     refresh_stored_normals(m);
     if (verdict != "passed") {

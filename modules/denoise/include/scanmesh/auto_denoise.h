@@ -12,8 +12,8 @@
 //    Either run stops by the discrepancy principle, once the vertices have moved about as far as the noise
 //    displaced them, except a clearly machined part (almost no soft creases at the probe), whose flat
 //    faces keep improving: it runs all iterations.
-// 5. The result is checked (no more faces turned against the smoothed input than the input itself has,
-//    volume kept); if the check fails, the last iteration that passed is returned.
+// 5. The result is checked (no more of the surface turned against the smoothed input than the input
+//    itself has, by area; volume kept); the last iteration that passed is returned (the input if none).
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
 // tuning corpus (bench/auto_cv.cpp, README "Choosing parameters automatically").
 #include <string>
@@ -55,7 +55,8 @@ struct AutoRules {
   /// Closed meshes: relative volume change at which the run stops. Off: rounding a noisy part's edges
   /// changes its volume by a few percent on the way to sharp edges again (measured on cubes).
   double max_volume_change = 1e9;
-  /// The check allows max(input's turned faces, this share of the faces) turned against the smoothed input.
+  /// The check allows max(input's turned share, this share) of the surface (by area) turned against the
+  /// smoothed input.
   double turned_slack = 0.002;
 };
 
