@@ -4,6 +4,7 @@
 
 #include "helpers.h"
 #include "scanmesh/errors.h"
+#include "scanmesh/parallel.h"
 
 using namespace scanmesh;
 
@@ -93,4 +94,14 @@ TEST(Mesh, ValidateNamesTheProblem) {
   m = test::make_grid(1);
   m.positions[2].y() = std::nan("");
   EXPECT_THROW(validate_mesh(m, "x"), InputError);
+}
+
+TEST(Parallel, AThreadScopeSetsTheCountAndRestoresIt) {
+  scanmesh::set_thread_count(2);
+  {
+    const scanmesh::ThreadScope one(1);
+    EXPECT_EQ(scanmesh::thread_count(), 1);
+  }
+  EXPECT_EQ(scanmesh::thread_count(), 2);
+  scanmesh::set_thread_count(0);
 }

@@ -124,7 +124,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     t0 = std::chrono::steady_clock::now();
     filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
     if (boundary)
-      filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.radius_factor);
+      filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.boundary_window);
     report.seconds_filtering += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     update_vertices(positions, topology, fidelity, geometry, filtered, lambda, boundary ? &curves : nullptr,

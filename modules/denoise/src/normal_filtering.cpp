@@ -81,7 +81,7 @@ void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbou
 
 void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
                              const std::vector<Vec3>& filtered_face_normals, double sigma_s,
-                             RobustEstimator estimator, double radius_factor) {
+                             RobustEstimator estimator, double window) {
   std::vector<Vec3>& filtered = curves.normals;
   const std::size_t ne = curves.edges.size();
   std::vector<Vec3> m(ne), mid(ne);
@@ -101,7 +101,7 @@ void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves&
   if (ne == 0) return;
   mean_len /= static_cast<double>(ne);
   const double sigma_c = mean_len;
-  const double radius = radius_factor * mean_len;
+  const double radius = window * mean_len;
   const auto loops = static_cast<long>(curves.loop_edges.rows());
 #pragma omp parallel for schedule(dynamic, 1)
   for (long l = 0; l < loops; ++l) {

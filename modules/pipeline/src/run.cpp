@@ -23,7 +23,7 @@ using detail::Stage;
 
 PipelineResult Pipeline::run() {
   const auto t0 = std::chrono::steady_clock::now();
-  set_thread_count(impl_->options.threads);
+  const ThreadScope threads(impl_->options.threads);  // this run's thread count, restored afterwards
   ReportInput report;
   report.output_path = impl_->output;
   report.tool_version = SCANMESH_VERSION;
@@ -37,7 +37,7 @@ PipelineResult Pipeline::run() {
   Stage* report_stage = nullptr;
   for (auto& s : impl_->slots) {
     if (s.stage->is_report()) report_stage = s.stage.get();
-    if (s.where.type == "read" && report.input_path.empty()) report.input_path = s.stage->files_read().front();
+    if (s.where.type == "read") report.input_path += (report.input_path.empty() ? "" : ", ") + s.stage->files_read().front();
   }
   Data data;
   std::map<std::string, Data> tagged;

@@ -80,8 +80,10 @@ struct ReaderStage : Stage {
     }
     if (!o.transform.isIdentity()) apply(*d.cloud, t);
     d.scale = measure_scale(*d.cloud);
-    if (ctx.report && ctx.report->input_points == 0) {
-      ctx.report->input_points = d.cloud->finite_count();
+    if (ctx.report) {  // several readers (views): their points add up; spacing and extent are the first's
+      const bool first = ctx.report->input_points == 0;
+      ctx.report->input_points += d.cloud->finite_count();
+      if (!first) return;
       ctx.report->input_spacing = d.scale->spacing;
       ctx.report->input_diagonal = d.scale->diagonal;
     }

@@ -38,9 +38,9 @@ Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geom
 
 /// Filters the in-surface outward normals m_e = normalize(edge x n~_face) of the boundary edges along
 /// each loop with the same robust bilateral weights as stage 1 (closeness on midpoint distance with
-/// sigma = mean boundary edge length, up to `radius_factor` of it).
+/// sigma = mean boundary edge length, out to `window` of them: the boundary's own width, boundary_window).
 void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
                              const std::vector<Vec3>& filtered_face_normals, double sigma_s,
-                             RobustEstimator estimator, double radius_factor);
+                             RobustEstimator estimator, double window);
 
 }  // namespace scanmesh
