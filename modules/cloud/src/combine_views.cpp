@@ -4,7 +4,6 @@
 #include <pcl/features/normal_3d.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
-#include <pcl/registration/correspondence_rejection_median_distance.h>
 #include <pcl/registration/icp.h>
 
 #include <algorithm>
@@ -83,12 +82,8 @@ Eigen::Matrix4f align(const std::vector<Vec3>& source, const std::vector<Vec3>& 
   }
   pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
   // Symmetric point-to-plane (Rusinkiewicz 2019): both views' normals, a wider basin than one-sided
-  // point-to-plane (which slid 3 spacings along flat faces of Fandisk in the test); correspondences beyond
-  // three times the median distance (non-overlapping parts) are dropped.
+  // point-to-plane (which slid 3 spacings along flat faces of Fandisk in the test).
   icp.setUseSymmetricObjective(true);
-  auto median = pcl::make_shared<pcl::registration::CorrespondenceRejectorMedianDistance>();
-  median->setMedianFactor(3.0);
-  icp.addCorrespondenceRejector(median);
   icp.setInputSource(with_normals(source));
   icp.setInputTarget(with_normals(target));
   icp.setMaxCorrespondenceDistance(distance);
