@@ -82,6 +82,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   std::vector<Vec3> positions = mesh.positions, updated, unscaled;
   FaceGeometry geometry;
   compute_face_geometry(positions, mesh.faces, geometry);
+  report.exact_plane_fraction = exact_plane_fraction(mesh, topology, geometry);
 
   auto t0 = std::chrono::steady_clock::now();
   const double c_a = mean_centroid_distance(mesh, topology, geometry);

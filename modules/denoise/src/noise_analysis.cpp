@@ -43,9 +43,7 @@ std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const F
   return jump;
 }
 
-NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {
-  NoiseAnalysis a;
-  a.mean_edge = mean_edge_length(mesh, topo);
+double exact_plane_fraction(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {
   // Exactly planar vertices (a CAD tessellation, an already denoised mesh).
   std::size_t flat = 0, counted = 0;
   for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
@@ -56,7 +54,13 @@ NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topo, const FaceGe
     for (const int* f = topo.vertex_faces.begin(i); same && f != topo.vertex_faces.end(i); ++f) same = (g.normals[*f] - n0).norm() < 1e-4;
     flat += same ? 1 : 0;
   }
-  a.exact_plane_fraction = counted > 0 ? static_cast<double>(flat) / static_cast<double>(counted) : 0.0;
+  return counted > 0 ? static_cast<double>(flat) / static_cast<double>(counted) : 0.0;
+}
+
+NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {
+  NoiseAnalysis a;
+  a.mean_edge = mean_edge_length(mesh, topo);
+  a.exact_plane_fraction = exact_plane_fraction(mesh, topo, g);
 
   const std::vector<double> jump = vertex_jumps(mesh, topo, g);
   std::vector<double> sorted;

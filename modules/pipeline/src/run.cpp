@@ -36,7 +36,7 @@ PipelineResult Pipeline::run() {
   ctx.report = &report;
   Stage* report_stage = nullptr;
   for (auto& s : impl_->slots) {
-    if (s.stage->is_report()) report_stage = s.stage.get();
+    if (s.stage->is_report()) report_stage = s.stage.get(), ctx.report_wanted = true;
     if (s.where.type == "read") report.input_path += (report.input_path.empty() ? "" : ", ") + s.stage->files_read().front();
   }
   Data data;
@@ -125,11 +125,11 @@ PipelineResult Pipeline::run() {
   result.status = ctx.problems.empty() ? "ok" : "degraded";
   result.problems = ctx.problems;
   if (data.mesh) {
-    const TopologyStats t = topology_stats(*data.mesh);
-    char line[256];
-    std::snprintf(line, sizeof line, "%zu vertices, %zu faces, %zu boundary loop%s, %zu piece%s", t.vertices, t.faces, t.boundary_loops,
-                  t.boundary_loops == 1 ? "" : "s", t.components, t.components == 1 ? "" : "s");
-    result.summary = line;
+    // Counts only (no topology pass on a large mesh just for this line); the sidecar has the rest.
+    result.summary = std::to_string(data.mesh->num_vertices()) + " vertices, " + std::to_string(data.mesh->num_faces()) + " faces";
+    if (result.scan_fit)
+      result.summary += ", " + std::to_string(result.scan_fit->loops.size()) + " boundary loops, " + std::to_string(result.scan_fit->pieces) +
+                        (result.scan_fit->pieces == 1 ? " piece" : " pieces");
   } else if (data.cloud) {
     result.summary = std::to_string(data.cloud->finite_count()) + " points";
   }

@@ -45,6 +45,7 @@ struct RunContext {
   std::vector<std::string> warnings;
   std::vector<std::string> problems;  ///< why the result is degraded (status "degraded"); also warnings
   ReportInput* report = nullptr;
+  bool report_wanted = false;  ///< the pipeline has a report stage
 };
 
 /// The point spacing and extent of the cloud, measured once.

@@ -16,22 +16,21 @@ struct DenoiseStage : Stage {
   void bind(Binder& b) override { bind_options(b, o, &given); }
   void run(Data& d, RunContext& ctx) override {
     Mesh& m = need_mesh(d, "mesh.denoise");
-    if (!d.before) d.before = m;
+    if (!d.before && ctx.report_wanted) d.before = m;  // only a report shows the displacement
     const auto* progress = &ctx.options->progress;
     const ProgressCallback report_progress = [progress](int done, int total) {
       if (*progress) (*progress)("mesh.denoise", done, total);
     };
     char buf[640];
     if (!o.automatic) {
-      const double plane = analyse_noise(m).exact_plane_fraction;
-      if (plane >= 0.1 && o.iterations > 0) {
+      const DenoiseReport r = denoise(m, o, report_progress);
+      if (r.exact_plane_fraction >= 0.1 && o.iterations > 0) {
         std::snprintf(buf, sizeof buf,
-                      "mesh.denoise: %.0f%% of the vertices lie exactly in the plane of their faces: the mesh looks noise-free "
-                      "(a CAD tessellation?); denoising may only disturb its triangles (auto: true would leave it alone)",
-                      100.0 * plane);
+                      "mesh.denoise: %.0f%% of the vertices lay exactly in the plane of their faces: the mesh looked noise-free "
+                      "(a CAD tessellation?); denoising may only have disturbed its triangles (auto: true leaves such meshes alone)",
+                      100.0 * r.exact_plane_fraction);
         ctx.warnings.emplace_back(buf);
       }
-      const DenoiseReport r = denoise(m, o, report_progress);
       std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, %d iterations, radius factor %.3g", o.sigma_s, o.lambda, r.iterations,
                     o.radius_factor);
       details = buf;

@@ -108,6 +108,9 @@ struct DenoiseReport {
   /// Why the run ended: "iterations", "target displacement", "observer" or "nothing to do".
   std::string stop_reason = "nothing to do";
   double displacement = 0.0;  ///< RMS normal displacement from the input at the end (mesh units)
+  /// Share of the input's vertices lying exactly in the plane of their faces (noise_analysis.h): a
+  /// noise-free tessellation, which denoising can only disturb.
+  double exact_plane_fraction = 0.0;
 };
 
 /// Called after every iteration with (iterations done, total).

@@ -30,6 +30,9 @@ struct NoiseAnalysis {
 NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
 NoiseAnalysis analyse_noise(const Mesh& mesh);
 
+/// NoiseAnalysis::exact_plane_fraction alone (cheap: one pass over the vertices' faces).
+double exact_plane_fraction(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
+
 /// Per vertex: |height over the one-ring plane - neighbours' mean height| (mesh units); -1 where undefined
 /// (boundary, fewer than three neighbours, no normal).
 std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
