@@ -161,7 +161,7 @@ double mean_centroid_distance(const Mesh& mesh, const Topology& topology, const 
 }
 
 int max_neighbourhood_size(double radius_factor) {
-  return static_cast<int>(std::max(256.0, std::ceil(64.0 * radius_factor * radius_factor)));
+  return static_cast<int>(std::max(128.0, std::ceil(32.0 * radius_factor * radius_factor)));
 }
 
 Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,

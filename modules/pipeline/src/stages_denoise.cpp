@@ -10,6 +10,14 @@
 namespace scanmesh::detail {
 namespace {
 
+// Pathological input (many faces on one spot or edge): say that neighbourhoods were cut to the nearest faces.
+void warn_capped(const DenoiseReport& r, const Mesh& m, RunContext& ctx) {
+  if (r.capped_neighbourhoods == 0) return;
+  ctx.warnings.push_back("mesh.denoise: " + std::to_string(r.capped_neighbourhoods) + " of " + std::to_string(m.num_faces()) +
+                         " faces had more neighbours within the radius than the limit; the nearest were used (many faces crowd "
+                         "one spot or edge: a non-manifold fan, overlapping copies?)");
+}
+
 struct DenoiseStage : Stage {
   DenoiseOptions o;
   std::vector<std::string> given;  // explicit values win over `auto`
@@ -34,6 +42,7 @@ struct DenoiseStage : Stage {
       std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, %d iterations, radius factor %.3g", o.sigma_s, o.lambda, r.iterations,
                     o.radius_factor);
       details = buf;
+      warn_capped(r, m, ctx);
       return;
     }
     const AutoReport a = denoise_auto(m, o, given, {}, report_progress);
@@ -53,6 +62,7 @@ struct DenoiseStage : Stage {
                         {"iterations", static_cast<double>(a.run.iterations)},
                         {"probe_iterations", static_cast<double>(a.probe_iterations)},
                         {"displacement", a.run.displacement}};
+    warn_capped(a.run, m, ctx);
     if (a.check != "passed" && a.check != "not needed")
       ctx.warnings.push_back("mesh.denoise: the result check ended the run early (" + a.check + "); the last iteration that passed is kept");
   }
