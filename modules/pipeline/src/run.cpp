@@ -60,7 +60,13 @@ PipelineResult Pipeline::run() {
         }
       } catch (const Error& e) {
         // A command line's pipeline is named by its input file; a YAML pipeline's stage by FILE:LINE.
-        if (impl_->path.empty() && !report.input_path.empty()) throw InputError(report.input_path + ": " + s.where.type + ": " + e.what());
+        if (impl_->path.empty() && !report.input_path.empty()) {
+          const std::string what = e.what();
+          // A reader's own message already starts with its file; naming it twice helps nobody.
+          for (const auto& f : s.stage->files_read())
+            if (what.rfind(f + ":", 0) == 0) throw InputError(what);
+          throw InputError(report.input_path + ": " + s.where.type + ": " + what);
+        }
         throw InputError(s.where.prefix() + ": " + e.what());
       }
       StageRecord rec;
