@@ -33,16 +33,16 @@ class PointTree {
   /// on the thread count.
   /// With max_neighbours > 0, only the nearest max_neighbours of each row are kept.
   void radius_all(const std::vector<Vec3>& queries, double radius, int threads,
-                  std::vector<std::vector<std::size_t>>& out, int max_neighbours = -1) const {
+                  std::vector<std::vector<std::size_t>>& out, std::vector<std::vector<double>>& dist,
+                  int max_neighbours = -1) const {
     out.assign(queries.size(), {});
+    dist.assign(queries.size(), {});
     if (data_.rows == 0 || queries.empty()) return;
-    std::vector<std::vector<double>> dist;
     flann::Matrix<double> q(const_cast<double*>(queries.data()->data()), queries.size(), 3);
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-    params.sorted = false;
+    params.sorted = false;  // in no particular order; the caller sorts what it needs
     params.cores = threads;
     params.max_neighbors = max_neighbours > 0 ? max_neighbours : -1;
-    params.sorted = max_neighbours > 0;  // nearest first, so a capped row keeps the nearest
     index_.radiusSearch(q, out, dist, static_cast<float>(radius * radius), params);
   }
 

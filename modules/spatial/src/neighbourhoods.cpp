@@ -16,14 +16,22 @@ Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, 
   // FLANN takes the squared radius as float; search a little wider and decide in double below. With a cap,
   // one more than the cap is asked for, to tell capped rows from full ones.
   std::vector<std::vector<std::size_t>> found;
-  tree.radius_all(points, radius * 1.001, thread_count(), found, max_neighbours > 0 ? max_neighbours + 1 : -1);
+  std::vector<std::vector<double>> dist;
+  tree.radius_all(points, radius * 1.001, thread_count(), found, dist, max_neighbours > 0 ? max_neighbours + 1 : -1);
   std::size_t cut = 0;
   if (max_neighbours > 0)
-    for (auto& row : found)
-      if (row.size() > static_cast<std::size_t>(max_neighbours)) {
-        row.resize(static_cast<std::size_t>(max_neighbours));  // FLANN returns them nearest first
-        ++cut;
-      }
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      auto& row = found[i];
+      if (row.size() <= static_cast<std::size_t>(max_neighbours)) continue;
+      // A full row holds the cap + 1 nearest: drop the farthest (ties: the larger index), which is
+      // what sorting by (distance, index) and keeping the first `cap` would do, without sorting.
+      const auto& d = dist[i];
+      std::size_t worst = 0;
+      for (std::size_t k = 1; k < row.size(); ++k)
+        if (d[k] > d[worst] || (d[k] == d[worst] && row[k] > row[worst])) worst = k;
+      row.erase(row.begin() + static_cast<long>(worst));
+      ++cut;
+    }
   if (capped != nullptr) *capped = cut;
   const double r2 = radius * radius;
   std::vector<int> counts(points.size(), 0);
