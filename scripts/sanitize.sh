@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds everything with AddressSanitizer + UndefinedBehaviorSanitizer (CMake preset asan-ubsan) and runs
-# every unit test under them: any invalid memory access or undefined behaviour fails the run.
+# Builds everything with clang, AddressSanitizer + UndefinedBehaviorSanitizer (CMake preset asan-ubsan; the
+# same build holds the fuzz harnesses) and runs every unit test under them: any invalid memory access or
+# undefined behaviour fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh

@@ -41,9 +41,10 @@ inline Mesh make_cube(int n) {
   // Each side: origin o, in-plane axes u, v with u x v pointing outwards.
   const Vec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1), O(0, 0, 0);
   const std::array<std::array<Vec3, 3>, 6> sides = {{{O, Y, X}, {Z, X, Y}, {O, X, Z}, {Y, Z, X}, {O, Z, Y}, {X, Y, Z}}};
-  for (const auto& [o, u, v] : sides)
+  for (const auto& side : sides)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
+        const Vec3 &o = side[0], &u = side[1], &v = side[2];  // not a structured binding: clang 14 cannot capture those
         auto p = [&](int a, int b) { return vertex(o + u * (double(a) / n) + v * (double(b) / n)); };
         const int a = p(i, j), b = p(i + 1, j), c = p(i + 1, j + 1), d = p(i, j + 1);
         m.faces.push_back({a, b, c});
