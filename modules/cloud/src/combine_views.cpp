@@ -96,15 +96,6 @@ Eigen::Matrix4f align(const std::vector<Vec3>& source, const std::vector<Vec3>& 
   return icp.getFinalTransformation();
 }
 
-void transform(PointCloud& c, const Eigen::Isometry3d& t) {
-  for (Vec3& p : c.points)
-    if (p.allFinite()) p = t * p;
-  for (Vec3& n : c.normals)
-    if (n.allFinite()) n = t.linear() * n;
-  if (c.sensor_origin) c.sensor_origin = t * *c.sensor_origin;
-  c.sensor_orientation = t.linear() * c.sensor_orientation;
-}
-
 }  // namespace
 
 PointCloud merge_views(const std::vector<PointCloud>& views) {
@@ -156,7 +147,7 @@ std::vector<ViewAlignment> register_views(std::vector<PointCloud>& views, const 
     a.correction.matrix() = t.cast<double>();
     a.rotation_deg = Eigen::AngleAxisd(a.correction.linear()).angle() * kRadToDeg;
     a.translation = a.correction.translation().norm();
-    transform(views[k], a.correction);
+    transform_cloud(views[k], a.correction);
     const std::vector<Vec3> moved = finite(views[k]);
     const std::vector<double> d = nearest_point_distances(model, moved);
     double sum = 0.0;

@@ -30,4 +30,13 @@ void drop_non_finite(PointCloud& cloud) {
   keep_points(cloud, keep);
 }
 
+void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& pose) {
+  for (Vec3& p : cloud.points)
+    if (p.allFinite()) p = pose * p;
+  for (Vec3& n : cloud.normals)
+    if (n.allFinite()) n = pose.linear() * n;
+  if (cloud.sensor_origin) cloud.sensor_origin = pose * *cloud.sensor_origin;
+  cloud.sensor_orientation = pose.linear() * cloud.sensor_orientation;
+}
+
 }  // namespace scanmesh

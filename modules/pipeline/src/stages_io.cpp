@@ -31,15 +31,6 @@ struct ReaderOptions {
   }
 };
 
-void apply(PointCloud& c, const Eigen::Isometry3d& t) {
-  for (Vec3& p : c.points)
-    if (p.allFinite()) p = t * p;
-  for (Vec3& n : c.normals)
-    if (n.allFinite()) n = t.linear() * n;
-  if (c.sensor_origin) c.sensor_origin = t * *c.sensor_origin;
-  c.sensor_orientation = t.linear() * c.sensor_orientation;
-}
-
 struct WriterOptions {
   std::string filename;
   bool ascii = false;
@@ -76,9 +67,9 @@ struct ReaderStage : Stage {
       pose.translation() = *d.cloud->sensor_origin;
       d.cloud->sensor_origin = Vec3::Zero();
       d.cloud->sensor_orientation.setIdentity();
-      apply(*d.cloud, pose);
+      transform_cloud(*d.cloud, pose);
     }
-    if (!o.transform.isIdentity()) apply(*d.cloud, t);
+    if (!o.transform.isIdentity()) transform_cloud(*d.cloud, t);
     d.scale = measure_scale(*d.cloud);
     if (ctx.report) {  // several readers (views): their points add up; spacing and extent are the first's
       const bool first = ctx.report->input_points == 0;

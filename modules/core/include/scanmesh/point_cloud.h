@@ -5,6 +5,8 @@
 #include <optional>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "scanmesh/mesh.h"
 
 namespace scanmesh {
@@ -44,5 +46,8 @@ void drop_non_finite(PointCloud& cloud);
 
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
+
+/// Moves a cloud rigidly: points, normals and the sensor pose (NaN holes stay holes).
+void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& pose);
 
 }  // namespace scanmesh
