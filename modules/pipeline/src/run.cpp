@@ -64,7 +64,7 @@ PipelineResult Pipeline::run() {
           const std::string what = e.what();
           // A reader's own message already starts with its file; naming it twice helps nobody.
           for (const auto& f : s.stage->files_read())
-            if (what.rfind(f + ":", 0) == 0) throw InputError(what);
+            if (what.rfind(f + ":", 0) == 0 || what.rfind("'" + f + "'", 0) == 0) throw InputError(what);
           throw InputError(report.input_path + ": " + s.where.type + ": " + what);
         }
         throw InputError(s.where.prefix() + ": " + e.what());
