@@ -3,8 +3,9 @@
 // meshes, succeed), never a signal, and with peak memory bounded by the input.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <thread>
 
@@ -119,6 +120,38 @@ TEST_F(Hostile, NonManifoldFansAndBooksStayLinear) {
     EXPECT_LT(d.peak_mb, 400.0) << name;
 #endif
   }
+}
+
+TEST_F(Hostile, ABoundaryOfTinyAndLongEdgesStaysLinear) {
+#ifdef SCANMESH_SANITIZED
+  GTEST_SKIP() << "a question of running time, which the instrumented build does not answer";
+#else
+  // A strip of 100,000 tiny faces whose boundary loop closes through one far vertex: the loop's mean edge,
+  // which sets the boundary windows, spans thousands of tiny edges. Windows walked that far made each
+  // iteration quadratic (30 iterations: ~3 minutes, past the 120 s hang guard); now they stop at
+  // kBoundaryWindowMaxEdges (~5 s).
+  const int n = 50000;
+  const double w = 1e-3;
+  std::string off = "OFF\n" + std::to_string(2 * n + 3) + " " + std::to_string(2 * n + 1) + " 0\n";
+  char line[128];
+  for (int i = 0; i <= n; ++i) {
+    const double x = w * i / n, z = 1e-9 * ((i * 7919) % 13 - 6) / 6.0;  // a little roughness to denoise
+    std::snprintf(line, sizeof line, "%.12g 0 %.12g\n%.12g %.12g %.12g\n", x, z, x, w / n, -z);
+    off += line;
+  }
+  off += "0.5 -1 0\n";
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 * i, b = a + 2, c = a + 3, d = a + 1;
+    off += "3 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n3 " + std::to_string(a) + " " +
+           std::to_string(c) + " " + std::to_string(d) + "\n";
+  }
+  off += "3 0 " + std::to_string(2 * n + 2) + " " + std::to_string(2 * n) + "\n";
+  const std::string file = write("strip.off", off);
+  const Outcome d = run_scanmesh({"denoise", file, path("out.off"), "--iterations", "30", "-q"}, path("err"));
+  EXPECT_EQ(d.signal, 0) << "killed: a hang";
+  EXPECT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_LT(d.peak_mb, 400.0);
+#endif
 }
 
 TEST_F(Hostile, ConcurrentRunsWritingOneOutputNeverMix) {

@@ -151,12 +151,15 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
       std::vector<double> c;
     };
     std::vector<Row> rows(nv);
+    std::vector<int> js;  // per vertex, reused
+    std::vector<Eigen::Vector3d> bases;
+    std::vector<double> ws;
     for (int i = 0; i < nv; ++i) {
       if (curves.corner[v[i]] || !(sigma > 0.0)) continue;
       Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-      std::vector<int> js;
-      std::vector<Eigen::Vector3d> bases;
-      std::vector<double> ws;
+      js.clear();
+      bases.clear();
+      ws.clear();
       auto add = [&](int j, double s) {
         const double w = std::exp(-s * s / (2.0 * sigma * sigma));
         const double u = s / sigma;  // scaled for conditioning
@@ -170,7 +173,7 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
       for (int dir : {1, -1}) {
         double s = 0.0;
         int j = i;
-        for (int step = 1; step < nv / 2; ++step) {
+        for (int step = 1; step < nv / 2 && step <= kBoundaryWindowMaxEdges; ++step) {
           const int next = j + dir;
           if (!closed && (next < 0 || next >= nv)) break;
           const int jn = (next + nv) % nv;
@@ -187,6 +190,8 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
       const Eigen::Vector3d e0 = ldlt.solve(Eigen::Vector3d::UnitX());  // (B^T W B)^-1 e0, A symmetric
       if (ldlt.info() != Eigen::Success || !e0.allFinite()) continue;
       Row& row = rows[i];
+      row.j.reserve(js.size());
+      row.c.reserve(js.size());
       for (std::size_t k = 0; k < js.size(); ++k) {
         row.j.push_back(js[k]);
         row.c.push_back(ws[k] * e0.dot(bases[k]));

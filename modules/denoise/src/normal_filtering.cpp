@@ -118,8 +118,9 @@ void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves&
         return d <= radius;
       };
       add(i);
-      // Walk both ways along the loop while within the radius (at most half the loop each way).
-      for (int step = 1; step <= n / 2; ++step) {
+      // Walk both ways along the loop while within the radius (at most half the loop, and at most
+      // kBoundaryWindowMaxEdges, each way).
+      for (int step = 1; step <= std::min(n / 2, kBoundaryWindowMaxEdges); ++step) {
         int kk = k + step;
         if (kk >= n) {
           if (!closed) break;
@@ -127,7 +128,7 @@ void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves&
         }
         if ((mid[edges[kk]] - mid[i]).norm() > radius || !add(edges[kk])) break;
       }
-      for (int step = 1; step <= (n - 1) / 2; ++step) {
+      for (int step = 1; step <= std::min((n - 1) / 2, kBoundaryWindowMaxEdges); ++step) {
         int kk = k - step;
         if (kk < 0) {
           if (!closed) break;

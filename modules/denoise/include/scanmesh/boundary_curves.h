@@ -33,12 +33,17 @@ struct BoundaryCurves {
   std::vector<Vec3> normals;  ///< per edge: filtered in-surface outward normal (filter_boundary_normals)
 };
 
+/// Windows along a boundary loop (the boundary normal filter, the curve fit) reach at most this many edges
+/// each way. A uniform loop needs ~3 x boundary_window (<= 30); a loop of many tiny edges and a few long
+/// ones (whose mean edge, hence window, spans thousands of tiny edges) would otherwise cost O(n^2).
+inline constexpr int kBoundaryWindowMaxEdges = 64;
+
 /// Finds the loops, their corners (turn above 50 degrees over three-edge chords; loops under 8 vertices
 /// are polygons, all corners) and ragged loops (mean turn above 70 degrees).
 BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology);
 
 /// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
-/// width in mean boundary edge lengths) that reproduces lines and circles, so the boundary does not shrink,
+/// width in mean boundary edge lengths, at most kBoundaryWindowMaxEdges each way) that reproduces lines and circles, so the boundary does not shrink,
 /// and does not smooth across corners (which stay for update_vertices). A move that would turn one of
 /// the vertex's triangles by more than 45 degrees or make its shape (circumradius / shortest edge) worse
 /// than 1.5 is halved, up to three times, then dropped: straightening a jagged scan boundary must not
