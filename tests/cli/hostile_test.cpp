@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <thread>
+#include <tuple>
 
 #include "helpers.h"
 #include "run_cli.h"
@@ -152,6 +153,24 @@ TEST_F(Hostile, ABoundaryOfTinyAndLongEdgesStaysLinear) {
   EXPECT_EQ(d.exit_code, 0) << d.err;
   EXPECT_LT(d.peak_mb, 400.0);
 #endif
+}
+
+TEST_F(Hostile, CloudsWithoutASurfaceFailAtOnce) {
+  // 50,000 copies of one point (PCL's neighbour searches were quadratic on it: 69 s for 100,000 before the
+  // message) and 50,000 points on a line.
+  std::string same, line;
+  for (int i = 0; i < 50000; ++i) {
+    same += "1 2 3\n";
+    line += std::to_string(i) + " " + std::to_string(2 * i) + " 0\n";
+  }
+  for (const auto& [name, text, needle] : {std::tuple{"same.xyz", same, "all 50000 points are at one position (1, 2, 3)"},
+                                           std::tuple{"line.xyz", line, "all 50000 points lie on one line"}}) {
+    const std::string file = write(name, text);
+    const Outcome o = run_scanmesh({"mesh", file, path("out.ply")}, path("err"));
+    EXPECT_EQ(o.exit_code, 1) << name << ": " << o.err;
+    EXPECT_NE(o.err.find(needle), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(path("out.ply")));
+  }
 }
 
 TEST_F(Hostile, ConcurrentRunsWritingOneOutputNeverMix) {

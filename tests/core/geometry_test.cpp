@@ -1,4 +1,5 @@
 #include "scanmesh/geometry.h"
+#include "scanmesh/point_cloud.h"
 
 #include <gtest/gtest.h>
 
@@ -38,4 +39,16 @@ TEST(Geometry, VertexNormalsOfSpherePointOutwards) {
   compute_face_geometry(m.positions, m.faces, g);
   const auto n = vertex_normals(build_topology(m), g);
   for (std::size_t v = 0; v < m.num_vertices(); ++v) EXPECT_GT(n[v].dot(m.positions[v]), 0.99);
+}
+
+TEST(PointCloudShape, OnePositionAndOneLineHaveNoSurface) {
+  scanmesh::PointCloud c;
+  c.points.assign(1000, scanmesh::Vec3(1, 2, 3));
+  EXPECT_NE(scanmesh::surface_problem(c).find("all 1000 points are at one position"), std::string::npos);
+  for (int i = 0; i < 1000; ++i) c.points[i] = scanmesh::Vec3(0.1 * i, 0.2 * i + 1, -0.3 * i);
+  EXPECT_NE(scanmesh::surface_problem(c).find("lie on one line"), std::string::npos);
+  c.points.back() += scanmesh::Vec3(0, 1e-3, 0);  // one point off the line: a (thin) surface
+  EXPECT_EQ(scanmesh::surface_problem(c), "");
+  c.points.assign(3, scanmesh::Vec3(std::nan(""), 0, 0));
+  EXPECT_NE(scanmesh::surface_problem(c).find("no finite points"), std::string::npos);
 }

@@ -96,9 +96,19 @@ void voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const CloudScale
   cloud = std::move(out);
 }
 
+namespace {
+
+void require_surface(const PointCloud& cloud) {
+  const std::string problem = surface_problem(cloud);
+  if (!problem.empty()) throw InputError(problem + ": there is no surface to find");
+}
+
+}  // namespace
+
 void remove_outliers(PointCloud& cloud, const OutlierOptions& o, const CloudScale& scale) {
   OutlierOptions::schema().validate(o);
   if (!(o.std_ratio > 0.0) && !(o.radius.value > 0.0)) return;  // both tests off
+  require_surface(cloud);
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   if (pts.size() <= static_cast<std::size_t>(o.neighbours)) return;
@@ -134,6 +144,7 @@ void remove_outliers(PointCloud& cloud, const OutlierOptions& o, const CloudScal
 void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
   NormalOptions::schema().validate(o);
   if (o.keep && cloud.has_normals()) return;
+  require_surface(cloud);
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   if (pts.size() < 3) throw InputError("normals: the cloud has fewer than 3 finite points");
@@ -231,6 +242,7 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
 void smooth_mls(PointCloud& cloud, const MlsOptions& o, const CloudScale& scale) {
   const double radius = o.radius.resolve(scale.spacing, scale.spacing, scale.diagonal);
   if (!(radius > 0.0)) return;
+  require_surface(cloud);
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   auto pc = to_pcl(pts);

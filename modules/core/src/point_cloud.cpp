@@ -1,5 +1,8 @@
 #include "scanmesh/point_cloud.h"
 
+#include <Eigen/Eigenvalues>
+#include <sstream>
+
 namespace scanmesh {
 
 std::size_t PointCloud::finite_count() const {
@@ -37,6 +40,39 @@ void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& pose) {
     if (n.allFinite()) n = pose.linear() * n;
   if (cloud.sensor_origin) cloud.sensor_origin = pose * *cloud.sensor_origin;
   cloud.sensor_orientation = pose.linear() * cloud.sensor_orientation;
+}
+
+std::string surface_problem(const PointCloud& cloud) {
+  std::size_t n = 0;
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : cloud.points)
+    if (p.allFinite()) {
+      mean += p;
+      ++n;
+    }
+  if (n == 0) return "the cloud has no finite points";
+  mean /= static_cast<double>(n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  double extent = 0.0;
+  for (const Vec3& p : cloud.points)
+    if (p.allFinite()) {
+      const Vec3 d = p - mean;
+      cov += d * d.transpose();
+      extent = std::max(extent, d.cwiseAbs().maxCoeff());
+    }
+  std::ostringstream s;
+  if (extent == 0.0) {
+    s << "all " << n << " points are at one position (" << mean.x() << ", " << mean.y() << ", " << mean.z() << ")";
+    return s.str();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / static_cast<double>(n));
+  const Vec3 l = eig.eigenvalues();  // ascending
+  // Collinear points leave a middle eigenvalue at rounding level only.
+  if (!(l(1) > 1e-20 * l(2))) {
+    s << "all " << n << " points lie on one line";
+    return s.str();
+  }
+  return "";
 }
 
 }  // namespace scanmesh

@@ -51,6 +51,8 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   MeshingDecision local;
   MeshingDecision& d = decision ? *decision : local;
   MeshMethod m = method.method;
+  if (const std::string problem = surface_problem(cloud); !problem.empty())
+    throw InputError("meshing: " + problem + ": there is no surface to mesh");
   if (m == MeshMethod::organized && !cloud.organized())
     throw InputError("organized meshing needs an organized cloud (a width x height grid); this one is a list of " +
                      std::to_string(cloud.size()) + " points (use method gp3 or poisson)");

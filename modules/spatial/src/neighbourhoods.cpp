@@ -103,6 +103,8 @@ std::vector<double> nearest_point_distances(const std::vector<Vec3>& points, con
 
 double mean_nearest_neighbour_distance(const std::vector<Vec3>& points) {
   if (points.size() < 2) return 0.0;
+  // One point repeated: every distance is 0 (and a k-d tree cannot split it, so the search would be quadratic).
+  if (std::all_of(points.begin(), points.end(), [&](const Vec3& p) { return p == points.front(); })) return 0.0;
   detail::PointTree tree(points);
   const auto n = static_cast<long>(points.size());
   std::vector<double> nearest(points.size(), 0.0);

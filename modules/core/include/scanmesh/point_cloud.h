@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -46,6 +47,11 @@ void drop_non_finite(PointCloud& cloud);
 
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
+
+/// Why the finite points cannot outline a surface (all at one position, or all on one line), or "" if
+/// they can. Stages that fit planes to neighbours check this first: PCL's neighbour searches also turn
+/// quadratic on a cloud of one repeated point.
+std::string surface_problem(const PointCloud& cloud);
 
 /// Moves a cloud rigidly: points, normals and the sensor pose (NaN holes stay holes).
 void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& pose);
