@@ -268,3 +268,16 @@ TEST_F(Cli, HelpExplainsEveryParameter) {
   EXPECT_EQ(run("eval --help").code, 0);
   EXPECT_EQ(run("noise --help").code, 0);
 }
+
+TEST_F(Cli, EvalSaysWhichFacesItsQualityLeavesOut) {
+  // Two right triangles and one whose corners coincide: Q is the mean over the two, and eval says the third
+  // was left out instead of averaging silently over fewer faces.
+  const std::string off = write("m.off", "OFF\n7 3 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 5 5\n5 5 5\n5 5 5\n3 0 1 2\n3 1 3 2\n3 4 5 6\n");
+  Result r = run("eval " + off);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("over 2 faces; 1 without a finite Q"), std::string::npos) << r.out;
+  const std::string bad = write("d.off", "OFF\n3 1 0\n5 5 5\n5 5 5\n5 5 5\n3 0 1 2\n");
+  r = run("eval " + bad);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Q:          none"), std::string::npos) << r.out;
+}

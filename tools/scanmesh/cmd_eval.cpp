@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -60,7 +62,16 @@ int run_eval(const std::vector<std::string>& args) {
                 t.vertices, t.faces, t.edges, t.boundary_loops, t.nonmanifold_edges, t.components);
     std::printf("defects:    %zu degenerate faces, %zu inconsistently oriented edges, %zu non-finite vertices\n",
                 t.degenerate_faces, t.inconsistent_edges, t.nonfinite_vertices);
-    std::printf("Q:          %.4f mean, %.4f max (0.577 = equilateral)\n", m.quality_mean, m.quality_max);
+    const auto no_q = static_cast<std::size_t>(
+        std::count_if(m.face_quality.begin(), m.face_quality.end(), [](double q) { return !std::isfinite(q); }));
+    if (no_q == m.face_quality.size()) {
+      std::printf("Q:          none: no face has a finite Q (all degenerate or beyond double range)\n");
+    } else {
+      std::printf("Q:          %.4f mean, %.4f max (0.577 = equilateral)", m.quality_mean, m.quality_max);
+      if (no_q > 0)
+        std::printf(" over %zu faces; %zu without a finite Q (degenerate or beyond double range) left out", m.face_quality.size() - no_q, no_q);
+      std::printf("\n");
+    }
     if (m.has_reference) {
       if (m.same_connectivity) {
         std::printf("MSAE:       %.4f deg\n", m.msae_deg);
