@@ -35,6 +35,7 @@ const Case kCases[] = {
     {"pcd-negative-size.pcd", "mesh", "SIZE must be"},
     {"pcd-size-count-overflow.pcd", "mesh", "COUNT must be"},
     {"pcd-claims-5e8-points.pcd", "mesh", "truncated"},
+    {"pcd-width-height-overflow.pcd", "mesh", "more points than any file can hold"},
     {"pcd-compressed-zero-size.pcd", "mesh", "expands to 0 bytes"},
     {"pcd-compressed-huge-size.pcd", "mesh", "corrupt"},
     {"pcd-compressed-count-mismatch.pcd", "mesh", "10 points of 12 bytes need 120"},

@@ -5,7 +5,8 @@ import struct
 
 def pcd_header(fields='x y z', size='4 4 4', type_='F F F', count='1 1 1', width='3', height='1', points='3', data='ascii'):
     return (f"# .PCD v0.7\nVERSION 0.7\nFIELDS {fields}\nSIZE {size}\nTYPE {type_}\nCOUNT {count}\n"
-            f"WIDTH {width}\nHEIGHT {height}\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {points}\nDATA {data}\n").encode()
+            f"WIDTH {width}\nHEIGHT {height}\nVIEWPOINT 0 0 0 1 0 0 0\n" + (f"POINTS {points}\n" if points is not None else "") +
+            f"DATA {data}\n").encode()
 
 def write(name, data):
     with open(name, 'wb') as f:
@@ -17,6 +18,8 @@ write('pcd-overflow-count.pcd', pcd_header(count='1 99999999999999999999 1') + b
 write('pcd-huge-count.pcd', pcd_header(count='1 2147483647 1', data='binary') + b"\0" * 36)
 write('pcd-negative-size.pcd', pcd_header(size='4 -4 4', data='binary') + b"\0" * 36)
 write('pcd-size-count-overflow.pcd', pcd_header(size='8 8 8', count='1 1 268435456', data='binary') + b"\0" * 72)
+# Found by fuzz_pcd: no POINTS line, and WIDTH x HEIGHT beyond 64-bit integers (UB when multiplied).
+write('pcd-width-height-overflow.pcd', pcd_header(width='100000000', height='555555000000', points=None, data='binary') + b"\0" * 36)
 write('pcd-claims-5e8-points.pcd', pcd_header(width='500000000', points='500000000', data='binary') + b"\0" * 1000)
 # binary_compressed: (compressed size, uncompressed size) then LZF bytes.
 write('pcd-compressed-zero-size.pcd', pcd_header(data='binary_compressed') + struct.pack('<II', 4, 0) + b"\x03abcd")

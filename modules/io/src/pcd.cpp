@@ -142,7 +142,9 @@ Header parse_header(std::string_view data, const std::string& file) {
     if (h.point_size > (std::size_t{1} << 30)) fail(file, "PCD points of more than 1 GiB each: corrupt header");
     h.fields.push_back(std::move(f));
   }
-  if (h.points < 0 && h.width >= 0) h.points = h.width * h.height;  // both < 2^63 / 2^31 after the checks below
+  if (h.points < 0 && h.width >= 0 && __builtin_mul_overflow(h.width, h.height, &h.points))
+    fail(file, "PCD header says WIDTH " + std::to_string(h.width) + " x HEIGHT " + std::to_string(h.height) +
+                   ": more points than any file can hold");
   if (h.points < 0) fail(file, "PCD header has no POINTS (or WIDTH)");
   if (h.width < 0) h.width = h.points;
   if (h.height < 1 && h.points > 0) fail(file, "PCD HEIGHT must be at least 1");
