@@ -36,7 +36,10 @@ PipelineResult Pipeline::run() {
   ctx.report = &report;
   Stage* report_stage = nullptr;
   for (auto& s : impl_->slots) {
-    if (s.stage->is_report()) report_stage = s.stage.get(), ctx.report_wanted = true;
+    if (s.stage->is_report()) {
+      report_stage = s.stage.get();
+      ctx.report_wanted = true;
+    }
     if (s.where.type == "read") report.input_path += (report.input_path.empty() ? "" : ", ") + s.stage->files_read().front();
   }
   Data data;
@@ -134,8 +137,8 @@ PipelineResult Pipeline::run() {
     // Counts only (no topology pass on a large mesh just for this line); the sidecar has the rest.
     result.summary = std::to_string(data.mesh->num_vertices()) + " vertices, " + std::to_string(data.mesh->num_faces()) + " faces";
     if (result.scan_fit)
-      result.summary += ", " + std::to_string(result.scan_fit->loops.size()) + " boundary loops, " + std::to_string(result.scan_fit->pieces) +
-                        (result.scan_fit->pieces == 1 ? " piece" : " pieces");
+      result.summary += ", " + std::to_string(result.scan_fit->loops.size()) + (result.scan_fit->loops.size() == 1 ? " boundary loop, " : " boundary loops, ") +
+                        std::to_string(result.scan_fit->pieces) + (result.scan_fit->pieces == 1 ? " piece" : " pieces");
   } else if (data.cloud) {
     result.summary = std::to_string(data.cloud->finite_count()) + " points";
   }

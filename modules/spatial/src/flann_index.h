@@ -31,7 +31,8 @@ class PointTree {
   /// Indices within `radius` of every point of `queries` (rows unsorted), in one batched call that FLANN
   /// spreads over `threads` threads; each row depends only on its query, so the result does not depend
   /// on the thread count.
-  /// With max_neighbours > 0, only the nearest max_neighbours of each row are kept.
+  /// `dist` holds the squared distances, row by row in the same order. With max_neighbours > 0, only the
+  /// nearest max_neighbours of each row are kept.
   void radius_all(const std::vector<Vec3>& queries, double radius, int threads,
                   std::vector<std::vector<std::size_t>>& out, std::vector<std::vector<double>>& dist,
                   int max_neighbours = -1) const {
@@ -40,7 +41,7 @@ class PointTree {
     if (data_.rows == 0 || queries.empty()) return;
     flann::Matrix<double> q(const_cast<double*>(queries.data()->data()), queries.size(), 3);
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-    params.sorted = false;  // in no particular order; the caller sorts what it needs
+    params.sorted = false;
     params.cores = threads;
     params.max_neighbors = max_neighbours > 0 ? max_neighbours : -1;
     index_.radiusSearch(q, out, dist, static_cast<float>(radius * radius), params);

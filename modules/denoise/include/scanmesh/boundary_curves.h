@@ -43,11 +43,11 @@ inline constexpr int kBoundaryWindowMaxEdges = 64;
 BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology);
 
 /// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
-/// width in mean boundary edge lengths, at most kBoundaryWindowMaxEdges each way) that reproduces lines and circles, so the boundary does not shrink,
-/// and does not smooth across corners (which stay for update_vertices). A move that would turn one of
-/// the vertex's triangles by more than 45 degrees or make its shape (circumradius / shortest edge) worse
-/// than 1.5 is halved, up to three times, then dropped: straightening a jagged scan boundary must not
-/// flatten the triangles behind it.
+/// width in mean boundary edge lengths, at most kBoundaryWindowMaxEdges each way) that reproduces lines
+/// and circles, so the boundary does not shrink, and does not smooth across corners (which stay for
+/// update_vertices). A move that would turn one of the vertex's triangles by more than 45 degrees or make
+/// its shape (circumradius / shortest edge) worse than 1.5 is halved, up to three times, then dropped:
+/// straightening a jagged scan boundary must not flatten the triangles behind it.
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
                             const BoundaryCurves& curves, double window);
 
