@@ -4,10 +4,13 @@
 //  2. sparse virtual scans of complete objects with known truth (few views, few points): normal error
 //     against the clean mesh (nearest face, degrees), E_v / bounding-box diagonal, coverage, status.
 // usage: scanmesh_mesh_methods [DATA_DIR] [--config configs/scan_to_mesh.yaml] [--clouds-only|--scans-only]
+//                              [--set STAGE.KEY=VALUE ...]   (added to every method's run, to try a setting)
+//                              [--breakdown]  (virtual scans: where E_v comes from, by distance to the nearest scan point)
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -49,12 +52,14 @@ struct Outcome {
   Mesh mesh;
 };
 
-Outcome run(const std::string& config, const std::string& input, const std::string& output, const std::vector<std::string>& sets) {
+Outcome run(const std::string& config, const std::string& input, const std::string& output, const std::vector<std::string>& sets,
+            const std::vector<std::string>& extra) {
   Outcome o;
   PipelineOptions po;
   po.input = input;
   po.output = output;
   po.sets = sets;
+  po.sets.insert(po.sets.end(), extra.begin(), extra.end());
   const auto t0 = std::chrono::steady_clock::now();
   try {
     const PipelineResult r = Pipeline::load(config, po).run();
@@ -76,14 +81,38 @@ std::vector<Vec3> finite_points(const PointCloud& c) {
   return out;
 }
 
+// Vertices binned by their distance to the nearest scan point (in spacings): share of vertices, share of
+// the sum of squared distances to the truth, and the RMS distance within the bin (/ spacing).
+void print_breakdown(const std::vector<double>& to_truth, const std::vector<double>& to_scan, double spacing) {
+  const double edges[] = {0.5, 1.0, 2.0, 3.0, 1e300};
+  double n[5] = {}, d2[5] = {}, total = 0.0;
+  for (std::size_t v = 0; v < to_truth.size(); ++v) {
+    const double s = to_scan[v] / spacing;
+    std::size_t b = 0;
+    while (s >= edges[b] && b < 4) ++b;
+    n[b] += 1.0;
+    d2[b] += to_truth[v] * to_truth[v];
+    total += to_truth[v] * to_truth[v];
+  }
+  std::printf("|   | by distance to the scan (spacings) | <0.5, 0.5-1, 1-2, 2-3, >3: vertices / share of sum d^2 / RMS d (spacings) |");
+  for (int b = 0; b < 5; ++b)
+    std::printf(" %.0f%%/%.0f%%/%.2f", 100.0 * n[b] / std::max<std::size_t>(1, to_truth.size()), total > 0 ? 100.0 * d2[b] / total : 0.0,
+                n[b] > 0 ? std::sqrt(d2[b] / n[b]) / spacing : 0.0);
+  std::printf(" |\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   fs::path data = "../shared/data";
   std::string config = "configs/scan_to_mesh.yaml";
   bool clouds = true, scans = true;
+  std::vector<std::string> extra;
+  bool breakdown = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--config") && i + 1 < argc) config = argv[++i];
+    else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) extra.push_back(argv[++i]);
+    else if (!std::strcmp(argv[i], "--breakdown")) breakdown = true;
     else if (!std::strcmp(argv[i], "--clouds-only")) scans = false;
     else if (!std::strcmp(argv[i], "--scans-only")) clouds = false;
     else data = argv[i];
@@ -115,7 +144,7 @@ int main(int argc, char** argv) {
         if (cloud.organized() && std::string(m.name) != "auto (main job)") {
           if (std::string(m.name) != "gp3") continue;  // organized frames: auto (organized meshing) against gp3 only
         }
-        const Outcome o = run(config, f.string(), out, m.sets);
+        const Outcome o = run(config, f.string(), out, m.sets, extra);
         if (!o.ok) {
           std::printf("| %s | %s | failed: %s | | | | | | | %.2f |\n", f.filename().c_str(), m.name, o.error.c_str(), o.seconds);
           continue;
@@ -150,7 +179,7 @@ int main(int argc, char** argv) {
       write_cloud_ply(scan, scan_file);
       const double spacing = measure_scale(scan).spacing;
       for (const auto& m : methods()) {
-        const Outcome o = run(config, scan_file, out, m.sets);
+        const Outcome o = run(config, scan_file, out, m.sets, extra);
         if (!o.ok) {
           std::printf("| %s | %zu | %s | failed: %s | | | | %.2f |\n", name.c_str(), scan.size(), m.name, o.error.c_str(), o.seconds);
           continue;
@@ -159,6 +188,7 @@ int main(int argc, char** argv) {
         std::printf("| %s | %zu | %s | %s | %.2f | %.3e | %.1f%% | %.2f |\n", name.c_str(), scan.size(), m.name, o.status.c_str(),
                     nearest_face_normal_error(o.mesh, clean), mm.ev_relative,
                     100.0 * scanned_coverage(o.mesh, clean, finite_points(scan), 2.0 * spacing), o.seconds);
+        if (breakdown) print_breakdown(mm.vertex_distance, nearest_point_distances(finite_points(scan), o.mesh.positions), spacing);
         std::fflush(stdout);
       }
     }
