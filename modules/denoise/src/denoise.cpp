@@ -110,7 +110,8 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.
   const double target = options.target_displacement * mean_edge_length(mesh, topology);
-  auto displacement = [&] { return normal_displacement(topology, mesh.faces, mesh.positions, positions); };
+  // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
+  auto displacement = [&] { return normal_displacement(topology, geometry, mesh.positions, positions); };
 
   std::vector<Vec3> filtered;
   double lambda = options.lambda;
@@ -186,6 +187,11 @@ double normal_displacement(const Topology& topology, const std::vector<Face>& fa
                            const std::vector<Vec3>& to) {
   FaceGeometry geometry;
   compute_face_geometry(to, faces, geometry);
+  return normal_displacement(topology, geometry, from, to);
+}
+
+double normal_displacement(const Topology& topology, const FaceGeometry& geometry, const std::vector<Vec3>& from,
+                           const std::vector<Vec3>& to) {
   const std::vector<Vec3> vn = vertex_normals(topology, geometry);
   double sum = 0.0;
   std::size_t n = 0;

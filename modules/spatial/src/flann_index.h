@@ -28,18 +28,16 @@ class PointTree {
     out.swap(idx[0]);
   }
 
-  /// Indices within `radius` of every point of `queries` (rows unsorted), in one batched call that FLANN
+  /// Indices within `radius` of each of the `count` points at `queries`, in one batched call that FLANN
   /// spreads over `threads` threads; each row depends only on its query, so the result does not depend
-  /// on the thread count.
-  /// `dist` holds the squared distances, row by row in the same order. With max_neighbours > 0, only the
-  /// nearest max_neighbours of each row are kept.
-  void radius_all(const std::vector<Vec3>& queries, double radius, int threads,
-                  std::vector<std::vector<std::size_t>>& out, std::vector<std::vector<double>>& dist,
-                  int max_neighbours = -1) const {
-    out.assign(queries.size(), {});
-    dist.assign(queries.size(), {});
-    if (data_.rows == 0 || queries.empty()) return;
-    flann::Matrix<double> q(const_cast<double*>(queries.data()->data()), queries.size(), 3);
+  /// on the thread count. Rows are unsorted; `dist` holds the squared distances, row by row in the same
+  /// order. With max_neighbours > 0, only the nearest max_neighbours of each row are kept.
+  void radius_all(const Vec3* queries, std::size_t count, double radius, int threads, std::vector<std::vector<std::size_t>>& out,
+                  std::vector<std::vector<double>>& dist, int max_neighbours = -1) const {
+    out.assign(count, {});
+    dist.assign(count, {});
+    if (data_.rows == 0 || count == 0) return;
+    flann::Matrix<double> q(const_cast<double*>(queries->data()), count, 3);
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
     params.sorted = false;
     params.cores = threads;

@@ -11,48 +11,52 @@
 namespace scanmesh {
 
 Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped) {
-  const auto n = static_cast<long>(points.size());
+  const std::size_t n = points.size();
   detail::PointTree tree(points);
-  // FLANN takes the squared radius as float; search a little wider and decide in double below. With a cap,
-  // one more than the cap is asked for, to tell capped rows from full ones.
+  const double r2 = radius * radius;
+  Adjacency a;
+  a.offsets.assign(n + 1, 0);
+  std::size_t cut = 0;
+  // Queries go in blocks: FLANN returns a row as a vector of 8-byte indices and one of 8-byte distances,
+  // which for a whole mesh at once took more memory than everything else the denoiser holds. Each block
+  // is turned into the final 4-byte rows before the next is searched.
+  constexpr std::size_t kBlock = std::size_t{1} << 15;
   std::vector<std::vector<std::size_t>> found;
   std::vector<std::vector<double>> dist;
-  tree.radius_all(points, radius * 1.001, thread_count(), found, dist, max_neighbours > 0 ? max_neighbours + 1 : -1);
-  std::size_t cut = 0;
-  if (max_neighbours > 0)
-    for (std::size_t i = 0; i < found.size(); ++i) {
-      auto& row = found[i];
-      if (row.size() <= static_cast<std::size_t>(max_neighbours)) continue;
-      // A full row holds the cap + 1 nearest: drop the farthest (ties: the larger index), which is
-      // what sorting by (distance, index) and keeping the first `cap` would do, without sorting.
-      const auto& d = dist[i];
-      std::size_t worst = 0;
-      for (std::size_t k = 1; k < row.size(); ++k)
-        if (d[k] > d[worst] || (d[k] == d[worst] && row[k] > row[worst])) worst = k;
-      row.erase(row.begin() + static_cast<long>(worst));
-      ++cut;
+  for (std::size_t start = 0; start < n; start += kBlock) {
+    const std::size_t count = std::min(kBlock, n - start);
+    // FLANN takes the squared radius as float; search a little wider and decide in double below. With a
+    // cap, one more than the cap is asked for, to tell capped rows from full ones.
+    tree.radius_all(points.data() + start, count, radius * 1.001, thread_count(), found, dist,
+                    max_neighbours > 0 ? max_neighbours + 1 : -1);
+    const auto rows = static_cast<long>(count);
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : cut)
+    for (long r = 0; r < rows; ++r) {
+      auto& row = found[r];
+      if (max_neighbours > 0 && row.size() > static_cast<std::size_t>(max_neighbours)) {
+        // A full row holds the cap + 1 nearest: drop the farthest (ties: the larger index), which is
+        // what sorting by (distance, index) and keeping the first `cap` would do, without sorting.
+        const auto& d = dist[r];
+        std::size_t worst = 0;
+        for (std::size_t k = 1; k < row.size(); ++k)
+          if (d[k] > d[worst] || (d[k] == d[worst] && row[k] > row[worst])) worst = k;
+        row.erase(row.begin() + static_cast<long>(worst));
+        ++cut;
+      }
+      const Vec3& p = points[start + static_cast<std::size_t>(r)];
+      std::size_t kept = 0;
+      for (std::size_t j : row)
+        if ((points[j] - p).squaredNorm() <= r2) row[kept++] = j;
+      row.resize(kept);
+      std::sort(row.begin(), row.end());
     }
-  if (capped != nullptr) *capped = cut;
-  const double r2 = radius * radius;
-  std::vector<int> counts(points.size(), 0);
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (long i = 0; i < n; ++i) {
-    auto& row = found[i];
-    std::size_t kept = 0;
-    for (std::size_t j : row)
-      if ((points[j] - points[i]).squaredNorm() <= r2) row[kept++] = j;
-    row.resize(kept);
-    std::sort(row.begin(), row.end());
-    counts[i] = static_cast<int>(kept);
+    for (std::size_t r = 0; r < count; ++r) a.offsets[start + r + 1] = a.offsets[start + r] + static_cast<int>(found[r].size());
+    // Room for every row, guessed from the first block's mean size (the vector still grows if short).
+    if (start == 0) a.indices.reserve(static_cast<std::size_t>(1.05 * static_cast<double>(a.offsets[count]) / static_cast<double>(count) * static_cast<double>(n)) + 16);
+    for (std::size_t r = 0; r < count; ++r)
+      for (std::size_t j : found[r]) a.indices.push_back(static_cast<int>(j));
   }
-  Adjacency a;
-  a.offsets.resize(points.size() + 1);
-  a.offsets[0] = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) a.offsets[i + 1] = a.offsets[i] + counts[i];
-  a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < n; ++i)
-    for (std::size_t k = 0; k < found[i].size(); ++k) a.indices[a.offsets[i] + k] = static_cast<int>(found[i][k]);
+  if (capped != nullptr) *capped = cut;
   return a;
 }
 

@@ -13,6 +13,7 @@
 namespace scanmesh {
 
 struct Topology;
+struct FaceGeometry;
 
 /// Robust estimator whose weight function g(x, sigma_s) compares two unit normals, x = |n_i - n_j| in [0, 2].
 enum class RobustEstimator {
@@ -142,6 +143,9 @@ void refresh_stored_normals(Mesh& mesh);
 /// RMS distance the vertices moved from `from` to `to` along the vertex normals of `to` (vertices without
 /// faces are not counted): what the discrepancy principle (`target_displacement`) compares with the noise.
 double normal_displacement(const Topology& topology, const std::vector<Face>& faces, const std::vector<Vec3>& from,
+                           const std::vector<Vec3>& to);
+/// The same with the face geometry of `to` already at hand (no second copy of it in memory).
+double normal_displacement(const Topology& topology, const FaceGeometry& geometry_of_to, const std::vector<Vec3>& from,
                            const std::vector<Vec3>& to);
 
 }  // namespace scanmesh
