@@ -69,17 +69,26 @@ Topology build_topology(const Mesh& mesh) {
   struct HalfEdge {
     int a, b, face, local;
   };
-  std::vector<HalfEdge> half;
-  half.reserve(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int u = mesh.faces[f][k];
-      const int w = mesh.faces[f][(k + 1) % 3];
-      half.push_back({std::min(u, w), std::max(u, w), static_cast<int>(f), k});
-    }
-  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return std::tie(x.a, x.b, x.face, x.local) < std::tie(y.a, y.b, y.face, y.local);
-  });
+  // Counting sort by the smaller vertex (linear), then each vertex's few half-edges by the rest of the key.
+  std::vector<HalfEdge> half(3 * nf);
+  {
+    std::vector<int> start(nv + 1, 0);
+    for (const Face& f : mesh.faces)
+      for (int k = 0; k < 3; ++k) ++start[std::min(f[k], f[(k + 1) % 3]) + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int u = mesh.faces[f][k];
+        const int w = mesh.faces[f][(k + 1) % 3];
+        half[fill[std::min(u, w)]++] = {std::min(u, w), std::max(u, w), static_cast<int>(f), k};
+      }
+    for (std::size_t v = 0; v < nv; ++v)
+      if (start[v + 1] - start[v] > 1)
+        std::sort(half.begin() + start[v], half.begin() + start[v + 1], [](const HalfEdge& x, const HalfEdge& y) {
+          return std::tie(x.b, x.face, x.local) < std::tie(y.b, y.face, y.local);
+        });
+  }
 
   t.face_edges.assign(nf, {-1, -1, -1});
   t.edge_faces.offsets.assign(1, 0);
