@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <limits>
 
 #include "scanmesh/errors.h"
@@ -109,9 +110,11 @@ SpatialOrder spatial_order(const Mesh& mesh) {
   return order;
 }
 
+// Leaves mesh.positions as they were and sets *nonfinite to a vertex if the result is not finite.
 DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
-                               const IterationObserver& observer) {
+                               const IterationObserver& observer, long* nonfinite) {
   DenoiseReport report;
+  *nonfinite = -1;
 
   // Work at unit scale: coordinates of 1e-150 or 1e80 behave like those of the unit box (squared
   // distances neither underflow nor overflow). The scale is a power of two, so scaling and unscaling are
@@ -128,7 +131,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   } restore{mesh, scale};
   for (auto& p : mesh.positions) p *= scale;
 
-  const Topology topology = build_topology(mesh);
+  Topology topology = build_topology(mesh);
   BoundaryCurves curves;
   const bool boundary = options.keep_boundary && topology.num_boundary_edges() > 0;
   if (boundary) curves = build_boundary_curves(mesh, topology);
@@ -140,15 +143,9 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   compute_face_geometry(positions, mesh.faces, geometry);
   report.exact_plane_fraction = exact_plane_fraction(mesh, topology, geometry);
 
-  auto t0 = std::chrono::steady_clock::now();
   const double c_a = mean_centroid_distance(mesh, topology, geometry);
   report.mean_centroid_distance = c_a;
   if (!(c_a > 0.0)) return report;  // every face degenerate: nothing to filter
-  Adjacency neighbourhoods =
-      face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
-                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods);
-  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
-  report.seconds_neighbourhoods += seconds_since(t0);
 
   // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move.
   std::vector<std::uint8_t> fixed;
@@ -166,6 +163,21 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.
   const double target = options.target_displacement * mean_edge_length(mesh, topology);
+  // From here on only vertex_faces and the boundary flags of the topology are needed (and face_faces for
+  // connected-ball neighbourhoods): the rest, ~70 bytes per face, goes before the neighbourhoods are built.
+  auto release = [](auto& v) { v = std::decay_t<decltype(v)>{}; };  // move-assigning an empty one frees the memory
+  release(topology.vertex_vertices);
+  release(topology.edges);
+  release(topology.edge_faces);
+  release(topology.face_edges);
+  if (options.neighbourhood == NeighbourhoodKind::ball) release(topology.face_faces);
+
+  auto t0 = std::chrono::steady_clock::now();
+  Adjacency neighbourhoods =
+      face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods);
+  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
+  report.seconds_neighbourhoods += seconds_since(t0);
   // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
   auto displacement = [&] { return normal_displacement(topology, geometry, mesh.positions, positions); };
 
@@ -213,6 +225,11 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   }
   if (target <= 0.0) report.displacement = displacement();
   report.displacement /= scale;
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (!positions[v].allFinite()) {
+      *nonfinite = static_cast<long>(v);
+      return report;
+    }
   mesh.positions = std::move(positions);
   return report;
 }
@@ -227,35 +244,64 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     if (!mesh.positions[v].allFinite())
       throw InputError("denoise: vertex " + std::to_string(v) + " has a coordinate that is NaN or infinite");
 
-  // The work runs on a copy in spatial order; the results go back to the caller's order.
+  // The work runs on a copy in spatial order; the results go back to the caller's order. Without an
+  // observer (which may look at the caller's mesh during the run) the caller's positions and faces are
+  // set aside meanwhile, so a large mesh is not held twice; they are rebuilt from the copy, exactly,
+  // however the run ends.
   const SpatialOrder order = spatial_order(mesh);
-  const std::size_t nv = mesh.num_vertices();
-  std::vector<int> new_index(nv);
-  for (std::size_t i = 0; i < nv; ++i) new_index[order.vertices[i]] = static_cast<int>(i);
+  const std::size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   Mesh local;
-  local.positions.resize(nv);
-  for (std::size_t i = 0; i < nv; ++i) local.positions[i] = mesh.positions[order.vertices[i]];
-  local.faces.resize(mesh.num_faces());
-  for (std::size_t i = 0; i < order.faces.size(); ++i)
-    for (int k = 0; k < 3; ++k) local.faces[i][k] = new_index[mesh.faces[order.faces[i]][k]];
-  new_index = {};
-  std::vector<Vec3> result(nv);
-  auto to_caller = [&](const std::vector<Vec3>& p) {
-    for (std::size_t i = 0; i < nv; ++i) result[order.vertices[i]] = p[i];
+  {
+    std::vector<int> new_index(nv);
+    for (std::size_t i = 0; i < nv; ++i) new_index[order.vertices[i]] = static_cast<int>(i);
+    local.positions.resize(nv);
+    for (std::size_t i = 0; i < nv; ++i) local.positions[i] = mesh.positions[order.vertices[i]];
+    local.faces.resize(nf);
+    for (std::size_t i = 0; i < nf; ++i)
+      for (int k = 0; k < 3; ++k) local.faces[i][k] = new_index[mesh.faces[order.faces[i]][k]];
+  }
+  auto to_caller = [&](const std::vector<Vec3>& p, std::vector<Vec3>& out) {
+    out.resize(nv);
+    for (std::size_t i = 0; i < nv; ++i) out[order.vertices[i]] = p[i];
   };
+  struct GiveBack {
+    Mesh& caller;
+    const Mesh& local;
+    const SpatialOrder& order;
+    bool pending = false;
+    void operator()() {  // the caller's faces, and its positions unless they have been set
+      if (!pending) return;
+      pending = false;
+      caller.faces.resize(local.faces.size());
+      for (std::size_t i = 0; i < local.faces.size(); ++i)
+        for (int k = 0; k < 3; ++k) caller.faces[order.faces[i]][k] = order.vertices[local.faces[i][k]];
+      if (caller.positions.empty()) {
+        caller.positions.resize(local.positions.size());
+        for (std::size_t i = 0; i < local.positions.size(); ++i) caller.positions[order.vertices[i]] = local.positions[i];
+      }
+    }
+    ~GiveBack() { (*this)(); }
+  } give_back{mesh, local, order};
+  if (!observer) {
+    std::vector<Vec3>().swap(mesh.positions);
+    std::vector<Face>().swap(mesh.faces);
+    give_back.pending = true;
+  }
+  std::vector<Vec3> seen;
   IterationObserver in_order;
   if (observer)
     in_order = [&](int it, const std::vector<Vec3>& p) {
-      to_caller(p);
-      return observer(it, result);
+      to_caller(p, seen);
+      return observer(it, seen);
     };
-  const DenoiseReport report = denoise_in_order(local, options, progress, in_order);
-  to_caller(local.positions);
-  for (std::size_t v = 0; v < nv; ++v)
-    if (!result[v].allFinite())
-      throw InputError("denoise: the result has non-finite coordinates (vertex " + std::to_string(v) +
-                       "); the input was left as it was");
-  mesh.positions = std::move(result);
+  long nonfinite = -1;
+  const DenoiseReport report = denoise_in_order(local, options, progress, in_order, &nonfinite);
+  if (nonfinite >= 0)  // local.positions are still the input, and so are the caller's (or GiveBack's)
+    throw InputError("denoise: the result has non-finite coordinates (vertex " + std::to_string(order.vertices[nonfinite]) +
+                     "); the input was left as it was");
+  std::vector<Vec3>().swap(seen);
+  to_caller(local.positions, mesh.positions);
+  give_back();
 
   // Stored vertex normals describe the old surface; replace them with the new one's.
   refresh_stored_normals(mesh);

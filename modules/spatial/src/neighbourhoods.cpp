@@ -12,7 +12,7 @@ namespace scanmesh {
 
 Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped) {
   const std::size_t n = points.size();
-  detail::PointTree tree(points);
+  detail::PointTree tree(points, false);  // no copy: on a large mesh it was part of the denoiser's peak
   const double r2 = radius * radius;
   Adjacency a;
   a.offsets.assign(n + 1, 0);
