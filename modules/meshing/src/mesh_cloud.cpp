@@ -1,6 +1,7 @@
 // Choosing the meshing method by measuring what each makes of the cloud.
 #include "scanmesh/mesh_cloud.h"
 
+#include <chrono>
 #include <cstdio>
 
 #include "scanmesh/clean_cloud.h"
@@ -47,7 +48,8 @@ const char* method_name(MeshMethod method) {
 }
 
 Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
-                const PoissonOptions& poisson, const CloudScale& scale, MeshingDecision* decision) {
+                const PoissonOptions& poisson, const CloudScale& scale, MeshingDecision* decision,
+                const std::function<void(const std::string&)>& note) {
   MeshingDecision local;
   MeshingDecision& d = decision ? *decision : local;
   MeshMethod m = method.method;
@@ -76,10 +78,19 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   // is measured as the clean-up stage would leave it (folds and non-manifold pieces removed, oriented).
   const ScanFitLimits limits;
   const std::vector<Vec3> points = finite_points(cloud);
+  auto t0 = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& line) {
+    if (!note) return;
+    char b[32];
+    std::snprintf(b, sizeof b, " (%.1f s)", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    note(line + b);
+  };
+  say("greedy projection of " + std::to_string(points.size()) + " points");
   Mesh g = triangulate_gp3(cloud, gp3, scale);
   clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
   ScanFit gf = measure_scan_fit(g, points, scale.spacing);
   const double gs = shortfall(gf, limits);
+  say("greedy projection: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
   d.numbers = {{"gp3_coverage", gf.coverage}, {"gp3_holes", static_cast<double>(gf.holes)}, {"gp3_pieces", static_cast<double>(gf.pieces)}};
   if (gs == 0.0) {
     d.method = MeshMethod::gp3;
@@ -96,6 +107,8 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     d.fit = std::move(gf);
     return g;
   }
+  say("it falls short: screened Poisson, depth " +
+      std::to_string(poisson.depth > 0 ? poisson.depth : poisson_depth_for(cloud, scale)));
   Mesh p;
   try {
     p = triangulate_poisson(cloud, poisson, scale);
@@ -104,6 +117,7 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     p = Mesh{};
   }
   ScanFit pf = measure_scan_fit(p, points, scale.spacing);
+  say("screened Poisson: " + std::to_string(p.faces.size()) + " faces" + (p.faces.empty() ? std::string() : ", " + fit_words(pf, limits)));
   const double ps = p.faces.empty() ? 1e300 : shortfall(pf, limits);
   d.numbers.insert(d.numbers.end(), {{"poisson_coverage", pf.coverage},
                                      {"poisson_holes", static_cast<double>(pf.holes)},

@@ -23,10 +23,12 @@ struct MeshStage : Stage {
     if (!fixed || method.method == MeshMethod::organized) bind_options(b, organized);
     if (!fixed || method.method == MeshMethod::poisson) bind_options(b, poisson);
   }
-  void run(Data& d, RunContext&) override {
+  void run(Data& d, RunContext& ctx) override {
     MeshingDecision decision;
     PointCloud& cloud = need_cloud(d, "meshing");
-    d.mesh = mesh_cloud(cloud, method, gp3, organized, poisson, scale_of(d), &decision);
+    std::function<void(const std::string&)> note;
+    if (ctx.options != nullptr && ctx.options->log) note = [&ctx](const std::string& line) { ctx.options->log("mesh.auto: " + line); };
+    d.mesh = mesh_cloud(cloud, method, gp3, organized, poisson, scale_of(d), &decision, note);
     Data::Meshed meshed;
     for (const Vec3& p : cloud.points)
       if (p.allFinite()) meshed.points.push_back(p);

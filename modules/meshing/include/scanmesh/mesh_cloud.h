@@ -4,6 +4,7 @@
 // the measured points as vertices) and, when that leaves points out or holes where the scan has data (a
 // complete object, a sparse scan), by screened Poisson trimmed back to the data; the result that
 // represents the points better is kept (measure_scan_fit). The options are the mesh.auto stage's schema.
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,8 +45,10 @@ const char* method_name(MeshMethod method);
 
 /// Triangulates `cloud` with the chosen method. Normals are estimated (default options) when a method
 /// needs them and the cloud has none. With `auto` on an unorganized cloud the candidates are measured
-/// after a default clean-up (clean_mesh), and the winner is returned cleaned.
+/// after a default clean-up (clean_mesh), and the winner is returned cleaned. `note`, if given, hears a
+/// line as each step of that starts and ends (with its seconds): on a large cloud they take minutes.
 Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Options& gp3, const OrganizedOptions& organized,
-                const PoissonOptions& poisson, const CloudScale& scale, MeshingDecision* decision = nullptr);
+                const PoissonOptions& poisson, const CloudScale& scale, MeshingDecision* decision = nullptr,
+                const std::function<void(const std::string&)>& note = {});
 
 }  // namespace scanmesh
