@@ -182,7 +182,7 @@ Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const
   auto pc = with_normals(cloud, index);
   pcl::Poisson<pcl::PointNormal> poisson;
   poisson.setDepth(o.depth > 0 ? o.depth : poisson_depth_for(cloud, scale));
-  poisson.setThreads(1);
+  poisson.setThreads(1);  // PCL's threaded Poisson gives a different mesh from run to run (hippo1: 35,531 faces, two md5s)
   poisson.setInputCloud(pc);
   pcl::PolygonMesh out;
   poisson.reconstruct(out);
