@@ -22,13 +22,13 @@ class PointTree {
   void radius(const Vec3& q, double radius, std::vector<std::size_t>& out) const {
     out.clear();
     if (data_.rows == 0) return;
-    std::vector<std::vector<std::size_t>> idx(1);
-    std::vector<std::vector<double>> dist(1);
-    flann::Matrix<double> query(const_cast<double*>(q.data()), 1, 3);
-    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-    params.sorted = false;
-    index_.radiusSearch(query, idx, dist, static_cast<float>(radius * radius), params);
-    out.swap(idx[0]);
+    flann::RadiusResultSet<double> found(static_cast<float>(radius * radius));
+    index_.findNeighbors(found, q.data(), single_query());
+    out.resize(found.size());
+    if (!out.empty()) {
+      std::vector<double> dist(out.size());
+      found.copy(out.data(), dist.data(), out.size(), false);
+    }
   }
 
   /// Indices within `radius` of each of the `count` points at `queries`, in one batched call that FLANN
@@ -54,17 +54,38 @@ class PointTree {
     dist_out.clear();
     if (data_.rows == 0) return;
     k = std::min<std::size_t>(k, data_.rows);
-    std::vector<std::vector<std::size_t>> idx(1);
-    std::vector<std::vector<double>> dist(1);
-    flann::Matrix<double> query(const_cast<double*>(q.data()), 1, 3);
-    index_.knnSearch(query, idx, dist, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED));
-    idx_out.swap(idx[0]);
-    dist_out.swap(dist[0]);
+    // The result sets flann::Index::knnSearch would use (a heap above 250 neighbours), same results.
+    auto take = [&](auto& found) {
+      index_.findNeighbors(found, q.data(), single_query());
+      const std::size_t n = std::min(found.size(), k);
+      idx_out.resize(n);
+      dist_out.resize(n);
+      if (n > 0) found.copy(idx_out.data(), dist_out.data(), n, true);
+    };
+    if (k > 250) {
+      flann::KNNResultSet2<double> found(k);
+      take(found);
+    } else {
+      flann::KNNSimpleResultSet<double> found(k);
+      take(found);
+    }
   }
 
  private:
+  // Single queries go straight to the tree: flann::Index's knnSearch and radiusSearch open an OpenMP
+  // parallel region on every call, and called once per point inside our own parallel loops that cost
+  // two million futex system calls (passive waiting) while reading a 700k-point cloud.
+  static const flann::SearchParams& single_query() {
+    static const flann::SearchParams p = [] {
+      flann::SearchParams q(flann::FLANN_CHECKS_UNLIMITED);
+      q.sorted = false;
+      return q;
+    }();
+    return p;
+  }
+
   flann::Matrix<double> data_;
-  mutable flann::Index<flann::L2_Simple<double>> index_;
+  mutable flann::KDTreeSingleIndex<flann::L2_Simple<double>> index_;
 };
 
 }  // namespace scanmesh::detail
