@@ -175,7 +175,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   auto t0 = std::chrono::steady_clock::now();
   Adjacency neighbourhoods =
       face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
-                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods);
+                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods, true);
   report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
   report.seconds_neighbourhoods += seconds_since(t0);
   // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
@@ -188,7 +188,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     if (options.recompute_neighbourhoods && it > 0) {
       t0 = std::chrono::steady_clock::now();
       neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
-                                           max_neighbourhood_size(options.radius_factor));
+                                           max_neighbourhood_size(options.radius_factor), nullptr, true);
       report.seconds_neighbourhoods += seconds_since(t0);
     }
     t0 = std::chrono::steady_clock::now();

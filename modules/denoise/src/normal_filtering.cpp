@@ -199,8 +199,8 @@ int max_neighbourhood_size(double radius_factor) {
 }
 
 Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,
-                              NeighbourhoodKind kind, int max_size, std::size_t* capped) {
-  if (kind == NeighbourhoodKind::ball) return radius_neighbourhoods(geometry.centroids, radius, max_size, capped);
+                              NeighbourhoodKind kind, int max_size, std::size_t* capped, bool spatially_ordered) {
+  if (kind == NeighbourhoodKind::ball) return radius_neighbourhoods(geometry.centroids, radius, max_size, capped, spatially_ordered);
 
   // Connected ball: grow from face i through edge-adjacent faces whose centroids are within the radius.
   const auto nf = static_cast<long>(geometry.centroids.size());

@@ -10,9 +10,10 @@
 
 namespace scanmesh {
 
-Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped) {
+Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
+                                bool spatially_ordered) {
   const std::size_t n = points.size();
-  detail::PointTree tree(points, false);  // no copy: on a large mesh it was part of the denoiser's peak
+  detail::PointTree tree(points, !spatially_ordered);
   const double r2 = radius * radius;
   Adjacency a;
   a.offsets.assign(n + 1, 0);

@@ -34,9 +34,11 @@ double mean_centroid_distance(const Mesh& mesh, const Topology& topology, const 
 int max_neighbourhood_size(double radius_factor);
 
 /// Omega_i for every face: centroids within `radius`, optionally only through edge-adjacent faces; at most
-/// `max_size` faces each, the nearest (`capped` counts the faces that had more).
+/// `max_size` faces each, the nearest (`capped` counts the faces that had more). `spatially_ordered`: the
+/// faces are in a spatial order (see radius_neighbourhoods).
 Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,
-                              NeighbourhoodKind kind, int max_size, std::size_t* capped = nullptr);
+                              NeighbourhoodKind kind, int max_size, std::size_t* capped = nullptr,
+                              bool spatially_ordered = false);
 
 /// Filters the in-surface outward normals m_e = normalize(edge x n~_face) of the boundary edges along
 /// each loop with the same robust bilateral weights as stage 1 (closeness on midpoint distance with
