@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <type_traits>
 #include <limits>
+#include <type_traits>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/noise_analysis.h"
@@ -108,6 +108,12 @@ SpatialOrder spatial_order(const Mesh& mesh) {
   for (std::size_t v = 0; v < nv; ++v)
     if (!placed[v]) order.vertices.push_back(static_cast<int>(v));
   return order;
+}
+
+// out[order[i]] = p[i]: positions in spatial order back to the caller's.
+void to_caller_order(const std::vector<int>& order, const std::vector<Vec3>& p, std::vector<Vec3>& out) {
+  out.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) out[order[i]] = p[i];
 }
 
 // Leaves mesh.positions as they were and sets *nonfinite to a vertex if the result is not finite.
@@ -260,10 +266,6 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     for (std::size_t i = 0; i < nf; ++i)
       for (int k = 0; k < 3; ++k) local.faces[i][k] = new_index[mesh.faces[order.faces[i]][k]];
   }
-  auto to_caller = [&](const std::vector<Vec3>& p, std::vector<Vec3>& out) {
-    out.resize(nv);
-    for (std::size_t i = 0; i < nv; ++i) out[order.vertices[i]] = p[i];
-  };
   struct GiveBack {
     Mesh& caller;
     const Mesh& local;
@@ -275,10 +277,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
       caller.faces.resize(local.faces.size());
       for (std::size_t i = 0; i < local.faces.size(); ++i)
         for (int k = 0; k < 3; ++k) caller.faces[order.faces[i]][k] = order.vertices[local.faces[i][k]];
-      if (caller.positions.empty()) {
-        caller.positions.resize(local.positions.size());
-        for (std::size_t i = 0; i < local.positions.size(); ++i) caller.positions[order.vertices[i]] = local.positions[i];
-      }
+      if (caller.positions.empty()) to_caller_order(order.vertices, local.positions, caller.positions);
     }
     ~GiveBack() { (*this)(); }
   } give_back{mesh, local, order};
@@ -291,7 +290,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   IterationObserver in_order;
   if (observer)
     in_order = [&](int it, const std::vector<Vec3>& p) {
-      to_caller(p, seen);
+      to_caller_order(order.vertices, p, seen);
       return observer(it, seen);
     };
   long nonfinite = -1;
@@ -300,7 +299,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     throw InputError("denoise: the result has non-finite coordinates (vertex " + std::to_string(order.vertices[nonfinite]) +
                      "); the input was left as it was");
   std::vector<Vec3>().swap(seen);
-  to_caller(local.positions, mesh.positions);
+  to_caller_order(order.vertices, local.positions, mesh.positions);
   give_back();
 
   // Stored vertex normals describe the old surface; replace them with the new one's.

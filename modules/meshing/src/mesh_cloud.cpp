@@ -107,8 +107,8 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     d.fit = std::move(gf);
     return g;
   }
-  say("it falls short: screened Poisson, depth " +
-      std::to_string(poisson.depth > 0 ? poisson.depth : poisson_depth_for(cloud, scale)));
+  const int depth = poisson.depth > 0 ? poisson.depth : poisson_depth_for(cloud, scale);
+  say("it falls short: screened Poisson, depth " + std::to_string(depth));
   Mesh p;
   try {
     p = triangulate_poisson(cloud, poisson, scale);
@@ -122,7 +122,7 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   d.numbers.insert(d.numbers.end(), {{"poisson_coverage", pf.coverage},
                                      {"poisson_holes", static_cast<double>(pf.holes)},
                                      {"poisson_pieces", static_cast<double>(pf.pieces)},
-                                     {"poisson_depth", static_cast<double>(poisson.depth > 0 ? poisson.depth : poisson_depth_for(cloud, scale))}});
+                                     {"poisson_depth", static_cast<double>(depth)}});
   // The smaller shortfall wins; on a tie greedy projection, which keeps the measured points.
   if (ps < gs) {
     d.method = MeshMethod::poisson;

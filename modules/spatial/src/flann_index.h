@@ -22,13 +22,8 @@ class PointTree {
   void radius(const Vec3& q, double radius, std::vector<std::size_t>& out) const {
     out.clear();
     if (data_.rows == 0) return;
-    flann::RadiusResultSet<double> found(static_cast<float>(radius * radius));
+    IndicesWithin found(static_cast<float>(radius * radius), out);
     index_.findNeighbors(found, q.data(), single_query());
-    out.resize(found.size());
-    if (!out.empty()) {
-      std::vector<double> dist(out.size());
-      found.copy(out.data(), dist.data(), out.size(), false);
-    }
   }
 
   /// Indices within `radius` of each of the `count` points at `queries`, in one batched call that FLANN
@@ -72,6 +67,22 @@ class PointTree {
   }
 
  private:
+  // flann::RadiusResultSet's test, appending the indices straight to the caller's vector (no distances
+  // kept, nothing allocated per query once `out` has grown).
+  class IndicesWithin : public flann::ResultSet<double> {
+   public:
+    IndicesWithin(double squared_radius, std::vector<std::size_t>& out) : r2_(squared_radius), out_(out) {}
+    bool full() const override { return true; }
+    void addPoint(double dist, std::size_t index) override {
+      if (dist < r2_) out_.push_back(index);
+    }
+    double worstDist() const override { return r2_; }
+
+   private:
+    double r2_;
+    std::vector<std::size_t>& out_;
+  };
+
   // Single queries go straight to the tree: flann::Index's knnSearch and radiusSearch open an OpenMP
   // parallel region on every call, and called once per point inside our own parallel loops that cost
   // two million futex system calls (passive waiting) while reading a 700k-point cloud.
