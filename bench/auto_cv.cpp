@@ -118,7 +118,8 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   }
   if (!decided_smooth && clear && target > 0.0) e = walk(*sharp, p, r, 0.0, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
   if (decided_smooth) {
-    const Checkpoint* s = walk(*smooth, p, r, r.smooth_target * noise, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
+    const Checkpoint* s = walk(*smooth, p, r, (r.smooth_target + r.smooth_target_per_level * p.level) * noise, r.max_iterations,
+                               [](const Checkpoint&) { return true; }, stopped);
     return s ? Outcome{s->msae, s->flips, "smooth", s->it} : Outcome{p.noisy_msae, p.noisy_flips, "smooth", 0};
   }
   return e ? Outcome{e->msae, e->flips, "sharp", e->it} : Outcome{p.noisy_msae, p.noisy_flips, "sharp", 0};
@@ -128,15 +129,16 @@ std::vector<Candidate> candidates() {
   std::vector<Candidate> out;
   for (double imp : {0.011})
     for (double oj : {4.0, 6.0})
-      for (int ni : {20, 50, 100})
+      for (int ni : {50, 100})
         for (int sharp = 0; sharp < 1; ++sharp)
-          for (int probe : {7, 10, 14, 20})
+          for (int probe : {10, 14})
             for (double crease : {0.01, 0.015, 0.02, 0.026, 0.035})
               for (double slope : {0.0, 0.05, 0.1})
                 for (double clear : {0.0, 0.004, 0.008, 0.012})
               for (int stat : {2})
                 for (double ts : {0.8, 1.0, 1.5, 0.0})
-                  for (double to : {0.5, 0.6, 0.8})
+                  for (double to : {0.45, 0.5, 0.55, 0.6})
+                    for (double to_level : {0.0, 0.5, 0.75, 1.0})
                     for (double slack : {1.0, 0.002}) {
                       Candidate c;
                       AutoRules& r = c.rules;
@@ -153,6 +155,7 @@ std::vector<Candidate> candidates() {
                       c.statistic = stat;
                       r.sharp_target = ts;
                       r.smooth_target = to;
+                      r.smooth_target_per_level = to_level;
                       r.turned_slack = slack;  // 1.0: no check (every face may turn)
                       out.push_back(c);
                     }
@@ -223,9 +226,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.1f/%.1f | turned slack %g\n",
+              "targets %.2f/%.2f+%.2f level | turned slack %g\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.turned_slack);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
