@@ -107,11 +107,13 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     d.fit = std::move(gf);
     return g;
   }
-  const int depth = poisson.depth > 0 ? poisson.depth : poisson_depth_for(cloud, scale);
+  PoissonOptions chosen = poisson;  // the depth from the spacing, computed once (a pass over the points)
+  if (chosen.depth <= 0) chosen.depth = poisson_depth_for(cloud, scale);
+  const int depth = chosen.depth;
   say("it falls short: screened Poisson, depth " + std::to_string(depth));
   Mesh p;
   try {
-    p = triangulate_poisson(cloud, poisson, scale);
+    p = triangulate_poisson(cloud, chosen, scale);
     clean_mesh(p, CleanupOptions{}, cloud.sensor_origin);
   } catch (const InputError&) {
     p = Mesh{};
