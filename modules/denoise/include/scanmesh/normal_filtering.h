@@ -21,6 +21,12 @@ void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbou
                          double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
                          const std::vector<double>* face_sigma = nullptr);
 
+/// Instruction set the Tukey kernel of filter_face_normals uses: `best` takes AVX2 where the processor
+/// has it, `sse2` never does. Both give the same bits (the lanes are summed in one fixed order); the
+/// switch exists for tests and benchmarks. Not thread-safe: set it before filtering starts.
+enum class FilterIsa { best, sse2 };
+void set_filter_isa(FilterIsa isa);
+
 /// The mean distance c_a between centroids of edge-adjacent faces (mean edge length if no face has a
 /// neighbour; 0 for an empty mesh).
 double mean_centroid_distance(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
