@@ -25,7 +25,6 @@ Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology) {
     if (keep[e]) ++count[a + 1], ++count[b + 1];
   }
   Adjacency n;
-  n.offsets.resize(nv + 1);
   for (std::size_t v = 0; v < nv; ++v) count[v + 1] += count[v];
   n.offsets.assign(count.begin(), count.end());
   n.indices.resize(static_cast<std::size_t>(n.offsets.back()));
@@ -54,10 +53,17 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     // Edge-normal orthogonality: move towards the planes of the filtered normals through the centroids.
     Vec3 fit = Vec3::Zero();
     Vec3 vertex_normal = Vec3::Zero();
+    // The normal tensor (used below when feature_aware) in the same pass over the faces.
+    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+    double area = 0.0;
     for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
       const Vec3& n = filtered_normals[*f];
       fit += n * n.dot(geometry.centroids[*f] - vi);
       vertex_normal += geometry.areas[*f] * n;
+      if (feature_aware) {
+        tensor += geometry.areas[*f] * n * n.transpose();
+        area += geometry.areas[*f];
+      }
     }
     fit /= static_cast<double>(nfaces);
     const double nlen = vertex_normal.norm();
@@ -107,17 +113,17 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
         // Normal tensor of the filtered normals: one large eigenvalue on smooth parts, two along a
         // sharp edge, three at a corner. On edges only the move along the edge is kept, at corners none,
         // so the fidelity term evens out triangles without rounding features.
-        Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-        double area = 0.0;
-        for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
-          tensor += geometry.areas[*f] * filtered_normals[*f] * filtered_normals[*f].transpose();
-          area += geometry.areas[*f];
-        }
-        if (area > 0.0) {
+        constexpr double kFeature = 0.1;
+        // The middle eigenvalue is at most trace - largest, and the largest at least the Rayleigh
+        // quotient of the vertex normal, so where trace - quotient is clearly below kFeature (smooth
+        // parts, most vertices) the eigenvalues cannot change r and are not computed. The margin covers
+        // the solver's rounding, so the result is the same as with the solve.
+        const Eigen::Matrix3d t = area > 0.0 ? Eigen::Matrix3d(tensor / area) : Eigen::Matrix3d::Zero();
+        const bool smooth = area > 0.0 && nlen > 0.0 && t.trace() - vertex_normal.dot(t * vertex_normal) < kFeature - 1e-9;
+        if (area > 0.0 && !smooth) {
           Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-          es.computeDirect(tensor / area);
+          es.computeDirect(t);
           const Vec3 ev = es.eigenvalues();  // ascending
-          constexpr double kFeature = 0.1;
           if (ev[0] >= kFeature) {
             r.setZero();
           } else if (ev[1] >= kFeature) {
