@@ -229,6 +229,50 @@ TEST(Denoise, OneAndTwoThreadsGiveIdenticalResults) {
     }
 }
 
+TEST(Denoise, ACacheSharedBetweenRunsChangesNoBit) {
+  Mesh noisy = test::make_sphere(4);
+  NoiseOptions n;
+  n.level = 0.4;
+  add_noise(noisy, n);
+  DenoiseOptions o;
+  o.iterations = 5;
+  o.radius_factor = 3.0;
+  const std::vector<Vec3> reference = prefiltered_normals(noisy, 3.0, 2.0, 4);
+  Mesh plain = noisy;
+  denoise(plain, o);
+
+  DenoiseCache cache;
+  EXPECT_EQ(prefiltered_normals(noisy, 3.0, 2.0, 4, &cache), reference);  // fills the cache
+  EXPECT_GT(cache.cached_neighbours(), 0u);
+  for (int run = 0; run < 2; ++run) {  // both use the cached neighbourhoods
+    Mesh m = noisy;
+    denoise(m, o, {}, {}, &cache);
+    EXPECT_EQ(std::memcmp(m.positions.data(), plain.positions.data(), m.positions.size() * sizeof(Vec3)), 0) << run;
+  }
+  // Another radius is built afresh (and replaces the cached table)...
+  o.radius_factor = 2.0;
+  Mesh narrow = noisy, narrow_cached = noisy;
+  denoise(narrow, o);
+  denoise(narrow_cached, o, {}, {}, &cache);
+  EXPECT_EQ(narrow_cached.positions, narrow.positions);
+  // ...and another mesh rebinds the cache instead of using the first one's neighbourhoods.
+  Mesh other = test::make_sphere(3);
+  add_noise(other, n);
+  Mesh other_plain = other;
+  denoise(other_plain, o);
+  denoise(other, o, {}, {}, &cache);
+  EXPECT_EQ(other.positions, other_plain.positions);
+  // The filtered normals did filter: the noisy sphere's normals moved towards the radial direction.
+  FaceGeometry g;
+  compute_face_geometry(noisy.positions, noisy.faces, g);
+  double before = 0.0, after = 0.0;
+  for (std::size_t f = 0; f < noisy.num_faces(); ++f) {
+    before += std::acos(std::clamp(g.normals[f].dot(g.centroids[f].normalized()), -1.0, 1.0));
+    after += std::acos(std::clamp(reference[f].dot(g.centroids[f].normalized()), -1.0, 1.0));
+  }
+  EXPECT_LT(after, 0.5 * before);
+}
+
 TEST(Denoise, TheResultDoesNotDependOnTheOrderOfFacesAndVertices) {
   // The denoiser works in its own spatial order; the caller's order must come back, and shuffling the
   // input may change only the rounding (faces at one Morton code are ordered by index), plus an

@@ -28,31 +28,14 @@ double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, c
   return manifold > 0 ? static_cast<double>(soft) / static_cast<double>(manifold) : 0.0;
 }
 
-// The input's normals after four passes of a wide normal filter: the reference the result check turns
-// faces against (noise flips a face relative to its own neighbourhood, denoising must not).
-std::vector<Vec3> smoothed_normals(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry) {
-  FaceGeometry g = geometry;
-  const double c_a = mean_centroid_distance(mesh, topo, g);
-  if (!(c_a > 0.0)) return g.normals;
-  const Adjacency nbh = face_neighbourhoods(topo, g, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
-  std::vector<Vec3> filtered;
-  for (int pass = 0; pass < 4; ++pass) {
-    filter_face_normals(g, nbh, c_a, 2.0, RobustEstimator::tukey, filtered);
-    g.normals = filtered;
-  }
-  return g.normals;
-}
-
 // The share of the surface (by area) whose faces point against the reference normals: slivers (the
 // near-zero-area triangles of a scan's meshing, whose normals are noise) weigh nothing, a turned patch of
 // real surface weighs its size.
-double turned_area_share(const std::vector<Vec3>& positions, const std::vector<Face>& faces, const std::vector<Vec3>& reference) {
+double turned_area_share(const FaceGeometry& g, const std::vector<Vec3>& reference) {
   double turned = 0.0, total = 0.0;
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    double area = 0.0;
-    const Vec3 normal = triangle_normal(positions[faces[f][0]], positions[faces[f][1]], positions[faces[f][2]], &area);
-    total += area;
-    turned += normal.dot(reference[f]) < 0.0 ? area : 0.0;
+  for (std::size_t f = 0; f < g.normals.size(); ++f) {
+    total += g.areas[f];
+    turned += g.normals[f].dot(reference[f]) < 0.0 ? g.areas[f] : 0.0;
   }
   return total > 0.0 ? turned / total : 0.0;
 }
@@ -92,9 +75,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   const double edge = na.mean_edge > 0.0 ? na.mean_edge : 1.0;
   char line[256];
 
-  // What the result check compares against.
-  const std::vector<Vec3> reference = smoothed_normals(mesh, topo, geometry);
-  const double input_turned = turned_area_share(mesh.positions, mesh.faces, reference);
+  // What the result check compares against: the input's normals after four passes of the wide filter
+  // (noise flips a face relative to its own neighbourhood, denoising must not). Its neighbourhoods (and
+  // the spatial order) are the ones both runs below use, so they are built once.
+  DenoiseCache cache;
+  const std::vector<Vec3> reference = prefiltered_normals(mesh, 3.0, 2.0, 4, &cache);
+  const double input_turned = turned_area_share(geometry, reference);
   const bool closed = topo.num_boundary_edges() == 0 && topo.num_nonmanifold_edges() == 0;
   const double input_volume = closed ? enclosed_volume(mesh.positions, mesh.faces) : 0.0;
   const int cap = is_given("iterations") ? o.iterations : rules.max_iterations;
@@ -117,8 +103,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     std::string verdict = "passed";
     int last_pass = 0;
     double last_turned = input_turned;
+    FaceGeometry at;
     DenoiseReport rep = denoise(m, inner, progress, [&](int it, const std::vector<Vec3>& pos) {
-      const double turned = turned_area_share(pos, m.faces, reference);
+      compute_face_geometry(pos, m.faces, at);  // one pass for the check and the displacement
+      const double turned = turned_area_share(at, reference);
       bool fails = turned > std::max(input_turned, rules.turned_slack);
       if (!fails && closed && std::abs(input_volume) > 0.0)
         fails = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume) > rules.max_volume_change;
@@ -127,14 +115,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         accepted = pos;
       }
       last_turned = turned;
-      if (target_on && normal_displacement(topo, m.faces, start, pos) >= target) {
+      if (target_on && normal_displacement(topo, at, start, pos) >= target) {
         reached = true;
         return false;
       }
       const Probe next = probe ? probe(it, pos) : Probe::go_on;
       if (next == Probe::no_target) target_on = false;
       return next != Probe::stop;
-    });
+    }, &cache);
     if (last_pass < rep.iterations) {
       std::snprintf(line, sizeof line,
                     "the last %d iterations turned %.2f%% of the surface against the smoothed input (input: %.2f%%); iteration %d kept",

@@ -116,18 +116,105 @@ void to_caller_order(const std::vector<int>& order, const std::vector<Vec3>& p, 
   for (std::size_t i = 0; i < p.size(); ++i) out[order[i]] = p[i];
 }
 
+// FNV-1a over the bytes of the positions and faces: which mesh a DenoiseCache belongs to.
+std::uint64_t fingerprint(const Mesh& mesh) {
+  std::uint64_t h = 1469598103934665603ULL;
+  auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ULL;
+  };
+  const std::size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  mix(&nv, sizeof nv);
+  mix(&nf, sizeof nf);
+  mix(mesh.positions.data(), nv * sizeof(Vec3));
+  mix(mesh.faces.data(), nf * sizeof(Face));
+  return h;
+}
+
+// The mesh in spatial order.
+Mesh in_spatial_order(const Mesh& mesh, const SpatialOrder& order) {
+  const std::size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  std::vector<int> new_index(nv);
+  for (std::size_t i = 0; i < nv; ++i) new_index[order.vertices[i]] = static_cast<int>(i);
+  Mesh local;
+  local.positions.resize(nv);
+  for (std::size_t i = 0; i < nv; ++i) local.positions[i] = mesh.positions[order.vertices[i]];
+  local.faces.resize(nf);
+  for (std::size_t i = 0; i < nf; ++i)
+    for (int k = 0; k < 3; ++k) local.faces[i][k] = new_index[mesh.faces[order.faces[i]][k]];
+  return local;
+}
+
+// The power of two that brings the largest coordinate into [1, 2): scaling by it is exact.
+double unit_scale(const std::vector<Vec3>& positions) {
+  double largest = 0.0;
+  for (const auto& p : positions) largest = std::max(largest, p.cwiseAbs().maxCoeff());
+  return largest > 0.0 ? std::ldexp(1.0, -std::ilogb(largest)) : 1.0;
+}
+
+}  // namespace
+
+struct DenoiseCache::State {
+  std::uint64_t fingerprint = 0;
+  SpatialOrder order;
+  // Ball neighbourhoods of the input (spatial order, unit scale) at `radius` with at most `max_size` faces.
+  bool has_neighbourhoods = false;
+  double radius = 0.0;
+  int max_size = 0;
+  Adjacency neighbourhoods;
+  std::size_t capped = 0;
+};
+
+DenoiseCache::DenoiseCache() = default;
+DenoiseCache::~DenoiseCache() = default;
+std::size_t DenoiseCache::cached_neighbours() const { return state ? state->neighbourhoods.indices.size() : 0; }
+
+namespace {
+
+// The cache's state for `mesh` (reset if it held another mesh's), or null without a cache.
+DenoiseCache::State* cache_for(DenoiseCache* cache, const Mesh& mesh) {
+  if (cache == nullptr) return nullptr;
+  const std::uint64_t fp = fingerprint(mesh);
+  if (!cache->state || cache->state->fingerprint != fp) {
+    cache->state = std::make_unique<DenoiseCache::State>();
+    cache->state->fingerprint = fp;
+    cache->state->order = spatial_order(mesh);
+  }
+  return cache->state.get();
+}
+
+// The input's neighbourhoods: the cache's when it holds them at this radius, else built into the cache
+// (or into `own` without one). The cache's table is used in place, not copied.
+const Adjacency& input_neighbourhoods(DenoiseCache::State* cached, const Topology& topology, const FaceGeometry& geometry,
+                                      double radius, NeighbourhoodKind kind, int max_size, std::size_t* capped, Adjacency& own) {
+  const bool usable = cached != nullptr && kind == NeighbourhoodKind::ball;
+  if (usable && cached->has_neighbourhoods && cached->radius == radius && cached->max_size == max_size) {
+    *capped = cached->capped;
+    return cached->neighbourhoods;
+  }
+  Adjacency& out = usable ? cached->neighbourhoods : own;
+  if (usable) cached->has_neighbourhoods = false;
+  out = Adjacency{};  // the old table goes before the new one is built
+  out = face_neighbourhoods(topology, geometry, radius, kind, max_size, capped, true);
+  if (usable) {
+    cached->has_neighbourhoods = true;
+    cached->radius = radius;
+    cached->max_size = max_size;
+    cached->capped = *capped;
+  }
+  return out;
+}
+
 // Leaves mesh.positions as they were and sets *nonfinite to a vertex if the result is not finite.
 DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
-                               const IterationObserver& observer, long* nonfinite) {
+                               const IterationObserver& observer, long* nonfinite, DenoiseCache::State* cached) {
   DenoiseReport report;
   *nonfinite = -1;
 
   // Work at unit scale: coordinates of 1e-150 or 1e80 behave like those of the unit box (squared
   // distances neither underflow nor overflow). The scale is a power of two, so scaling and unscaling are
   // exact and every result equals the one computed at the original scale.
-  double largest = 0.0;
-  for (const auto& p : mesh.positions) largest = std::max(largest, p.cwiseAbs().maxCoeff());
-  const double scale = largest > 0.0 ? std::ldexp(1.0, -std::ilogb(largest)) : 1.0;
+  const double scale = unit_scale(mesh.positions);
   struct Unscale {
     Mesh& m;
     double s;
@@ -179,10 +266,11 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   if (options.neighbourhood == NeighbourhoodKind::ball) release(topology.face_faces);
 
   auto t0 = std::chrono::steady_clock::now();
-  Adjacency neighbourhoods =
-      face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
-                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods, true);
-  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods.indices.size()) / static_cast<double>(mesh.num_faces());
+  Adjacency own_neighbourhoods;
+  const Adjacency* neighbourhoods = &input_neighbourhoods(cached, topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+                                                          max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods,
+                                                          own_neighbourhoods);
+  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods->indices.size()) / static_cast<double>(mesh.num_faces());
   report.seconds_neighbourhoods += seconds_since(t0);
   // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
   auto displacement = [&] { return normal_displacement(topology, geometry, mesh.positions, positions); };
@@ -193,12 +281,14 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   for (int it = 0; it < options.iterations; ++it) {
     if (options.recompute_neighbourhoods && it > 0) {
       t0 = std::chrono::steady_clock::now();
-      neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
-                                           max_neighbourhood_size(options.radius_factor), nullptr, true);
+      own_neighbourhoods = Adjacency{};
+      own_neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+                                               max_neighbourhood_size(options.radius_factor), nullptr, true);
+      neighbourhoods = &own_neighbourhoods;
       report.seconds_neighbourhoods += seconds_since(t0);
     }
     t0 = std::chrono::steady_clock::now();
-    filter_face_normals(geometry, neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
+    filter_face_normals(geometry, *neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
     if (boundary)
       filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.boundary_window);
     report.seconds_filtering += seconds_since(t0);
@@ -243,7 +333,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
 }  // namespace
 
 DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
-                      const IterationObserver& observer) {
+                      const IterationObserver& observer, DenoiseCache* cache) {
   validate(options);
   if (mesh.faces.empty() || options.iterations == 0) return DenoiseReport{};
   for (std::size_t v = 0; v < mesh.num_vertices(); ++v)
@@ -254,18 +344,11 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   // observer (which may look at the caller's mesh during the run) the caller's positions and faces are
   // set aside meanwhile, so a large mesh is not held twice; they are rebuilt from the copy, exactly,
   // however the run ends.
-  const SpatialOrder order = spatial_order(mesh);
-  const std::size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
-  Mesh local;
-  {
-    std::vector<int> new_index(nv);
-    for (std::size_t i = 0; i < nv; ++i) new_index[order.vertices[i]] = static_cast<int>(i);
-    local.positions.resize(nv);
-    for (std::size_t i = 0; i < nv; ++i) local.positions[i] = mesh.positions[order.vertices[i]];
-    local.faces.resize(nf);
-    for (std::size_t i = 0; i < nf; ++i)
-      for (int k = 0; k < 3; ++k) local.faces[i][k] = new_index[mesh.faces[order.faces[i]][k]];
-  }
+  DenoiseCache::State* cached = cache_for(cache, mesh);
+  SpatialOrder own;
+  if (cached == nullptr) own = spatial_order(mesh);
+  const SpatialOrder& order = cached != nullptr ? cached->order : own;
+  Mesh local = in_spatial_order(mesh, order);
   struct GiveBack {
     Mesh& caller;
     const Mesh& local;
@@ -294,7 +377,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
       return observer(it, seen);
     };
   long nonfinite = -1;
-  const DenoiseReport report = denoise_in_order(local, options, progress, in_order, &nonfinite);
+  const DenoiseReport report = denoise_in_order(local, options, progress, in_order, &nonfinite, cached);
   if (nonfinite >= 0)  // local.positions are still the input, and so are the caller's (or GiveBack's)
     throw InputError("denoise: the result has non-finite coordinates (vertex " + std::to_string(order.vertices[nonfinite]) +
                      "); the input was left as it was");
@@ -305,6 +388,35 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   // Stored vertex normals describe the old surface; replace them with the new one's.
   refresh_stored_normals(mesh);
   return report;
+}
+
+std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, double sigma_s, int passes, DenoiseCache* cache) {
+  DenoiseCache::State* cached = cache_for(cache, mesh);
+  SpatialOrder own;
+  if (cached == nullptr) own = spatial_order(mesh);
+  const SpatialOrder& order = cached != nullptr ? cached->order : own;
+  // The same frame as denoise(): spatial order, unit scale (so the neighbourhoods are the ones its runs use).
+  Mesh local = in_spatial_order(mesh, order);
+  const double scale = unit_scale(local.positions);
+  for (auto& p : local.positions) p *= scale;
+  const Topology topology = build_topology(local);
+  FaceGeometry g;
+  compute_face_geometry(local.positions, local.faces, g);
+  const double c_a = mean_centroid_distance(local, topology, g);
+  if (c_a > 0.0) {
+    std::size_t capped = 0;
+    Adjacency own;
+    const Adjacency& nbh = input_neighbourhoods(cached, topology, g, radius_factor * c_a, NeighbourhoodKind::ball,
+                                                max_neighbourhood_size(radius_factor), &capped, own);
+    std::vector<Vec3> filtered;
+    for (int pass = 0; pass < passes; ++pass) {
+      filter_face_normals(g, nbh, c_a, sigma_s, RobustEstimator::tukey, filtered);
+      g.normals.swap(filtered);
+    }
+  }
+  std::vector<Vec3> out(g.normals.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[order.faces[i]] = g.normals[i];
+  return out;
 }
 
 void refresh_stored_normals(Mesh& mesh) {

@@ -4,6 +4,7 @@
 // (stage 1, normal_filtering.h) and then moves the vertices to agree with the filtered normals plus an
 // isotropic fidelity term lambda_I * R_i (stage 2, vertex_update.h); lambda_I decays every iteration.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -130,12 +131,36 @@ std::string to_string(NeighbourhoodKind kind);
 /// Throws UsageError naming the option if a value is out of range.
 void validate(const DenoiseOptions& options);
 
+/// Set-up that several runs of the denoiser on one input share (--auto filters the input for its result
+/// check and then runs the denoiser on it up to twice, all with the same radius): the spatial order and
+/// the input's ball neighbourhoods. It binds to the first mesh it is used with (a fingerprint of positions
+/// and faces); runs on any other mesh, or with another radius or neighbourhood kind, compute their own.
+/// Results are the same with or without it. Holds one neighbourhood table (~4 bytes per neighbour).
+class DenoiseCache {
+ public:
+  DenoiseCache();
+  ~DenoiseCache();
+  DenoiseCache(const DenoiseCache&) = delete;
+  DenoiseCache& operator=(const DenoiseCache&) = delete;
+  /// Entries of the neighbourhood table it holds (0 before a run has filled it).
+  [[nodiscard]] std::size_t cached_neighbours() const;
+  struct State;
+  std::unique_ptr<State> state;
+};
+
 /// Denoises `mesh` in place. Connectivity, vertex order and vertex properties are kept; stored vertex
 /// normals (nx, ny, nz) are recomputed from the result. Degenerate faces, isolated vertices, non-manifold
 /// edges and several components are allowed. Deterministic: the result does not depend on the thread count.
 /// \throw UsageError for invalid options.
+/// With `cache`, reuses (and fills) the set-up shared with other runs on the same input.
 DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress = {},
-                      const IterationObserver& observer = {});
+                      const IterationObserver& observer = {}, DenoiseCache* cache = nullptr);
+
+/// The input's face normals after `passes` passes of the Tukey filter (width sigma_s, closeness c_a, ball
+/// neighbourhoods of radius radius_factor x c_a), in the mesh's face order: what --auto's result check
+/// turns faces against. With `cache`, shares its set-up with later denoise() runs on the same mesh.
+std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, double sigma_s, int passes,
+                                      DenoiseCache* cache = nullptr);
 
 /// Recomputes stored vertex normals (nx, ny, nz), if the mesh has them, from its current faces.
 void refresh_stored_normals(Mesh& mesh);
