@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -116,18 +117,22 @@ void to_caller_order(const std::vector<int>& order, const std::vector<Vec3>& p, 
   for (std::size_t i = 0; i < p.size(); ++i) out[order[i]] = p[i];
 }
 
-// FNV-1a over the bytes of the positions and faces: which mesh a DenoiseCache belongs to.
+// FNV-1a over the 8-byte words of the positions and the faces: which mesh a DenoiseCache belongs to.
 std::uint64_t fingerprint(const Mesh& mesh) {
   std::uint64_t h = 1469598103934665603ULL;
-  auto mix = [&h](const void* data, std::size_t bytes) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ULL;
-  };
-  const std::size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
-  mix(&nv, sizeof nv);
-  mix(&nf, sizeof nf);
-  mix(mesh.positions.data(), nv * sizeof(Vec3));
-  mix(mesh.faces.data(), nf * sizeof(Face));
+  auto mix = [&h](std::uint64_t w) { h = (h ^ w) * 1099511628211ULL; };
+  mix(mesh.num_vertices());
+  mix(mesh.num_faces());
+  for (const Vec3& p : mesh.positions)
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t w;
+      std::memcpy(&w, &p[k], sizeof w);
+      mix(w);
+    }
+  for (const Face& f : mesh.faces) {
+    mix(static_cast<std::uint32_t>(f[0]) | static_cast<std::uint64_t>(static_cast<std::uint32_t>(f[1])) << 32);
+    mix(static_cast<std::uint32_t>(f[2]));
+  }
   return h;
 }
 
