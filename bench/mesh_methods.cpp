@@ -5,6 +5,7 @@
 //     against the clean mesh (nearest face, degrees), E_v / bounding-box diagonal, coverage, status.
 // usage: scanmesh_mesh_methods [DATA_DIR] [--config configs/scan_to_mesh.yaml] [--clouds-only|--scans-only]
 //                              [--set STAGE.KEY=VALUE ...]   (added to every method's run, to try a setting)
+//                              [--models NAME,NAME...]  (virtual scans of these models of DATA_DIR/train instead)
 //                              [--breakdown]  (virtual scans: where E_v comes from, by distance to the nearest scan point)
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -109,12 +111,14 @@ int main(int argc, char** argv) {
   bool clouds = true, scans = true;
   std::vector<std::string> extra;
   bool breakdown = false;
+  std::string model_list;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--config") && i + 1 < argc) config = argv[++i];
     else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) extra.push_back(argv[++i]);
     else if (!std::strcmp(argv[i], "--breakdown")) breakdown = true;
     else if (!std::strcmp(argv[i], "--clouds-only")) scans = false;
     else if (!std::strcmp(argv[i], "--scans-only")) clouds = false;
+    else if (!std::strcmp(argv[i], "--models") && i + 1 < argc) model_list = argv[++i];
     else data = argv[i];
   }
   register_scan_stages();
@@ -162,10 +166,15 @@ int main(int argc, char** argv) {
     std::printf("\n## Sparse virtual scans of complete objects (truth known): 4 views of 96 x 72 pixels, noise 0.2\n\n");
     std::printf("| model | points | method | status | normal error (deg) | E_v / diag | coverage of the scanned surface | seconds |\n"
                 "|---|---|---|---|---|---|---|---|\n");
-    const std::vector<std::pair<std::string, fs::path>> models = {
+    std::vector<std::pair<std::string, fs::path>> models = {
         {"bunny", data / "pairs" / "bunny-0.2" / "clean.obj"}, {"fandisk", data / "pairs" / "fandisk-0.3" / "clean.obj"},
         {"spot", data / "train" / "spot.obj"},                 {"homer", data / "train" / "homer.obj"},
         {"rocker-arm", data / "train" / "rocker-arm.obj"},     {"cow", data / "train" / "cow.obj"}};
+    if (!model_list.empty()) {  // other models of train/, e.g. to choose a setting on models the table does not show
+      models.clear();
+      std::stringstream names(model_list);
+      for (std::string name; std::getline(names, name, ',');) models.emplace_back(name, data / "train" / (name + ".obj"));
+    }
     for (const auto& [name, file] : models) {
       if (!fs::exists(file)) continue;
       const Mesh clean = read_mesh(file.string());

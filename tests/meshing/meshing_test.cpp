@@ -7,6 +7,7 @@
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/geometry.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/mesh_cloud.h"
 #include "scanmesh/triangulate.h"
@@ -151,6 +152,48 @@ TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {
   }
   EXPECT_FALSE(m.faces.empty());
   EXPECT_NE(d.reason.find("covers"), std::string::npos);
+}
+
+TEST(MeshCloud, ASheetSeenFromBothSidesIsMeshedAsOneLayer) {
+  // A curved sheet of no thickness scanned from above and below: every spot is sampled twice, with the
+  // normals facing each sensor, i.e. opposite ways. Poisson on those normals wraps the sheet in two
+  // layers; mesh.auto must notice and give one.
+  auto height = [](double x, double y) { return 0.15 * std::sin(2.0 * x) * std::cos(2.0 * y); };
+  auto normal = [](double x, double y) {
+    return Vec3(-0.3 * std::cos(2.0 * x) * std::cos(2.0 * y), 0.3 * std::sin(2.0 * x) * std::sin(2.0 * y), 1.0).normalized();
+  };
+  PointCloud c;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  for (int i = 0; i < 1200; ++i) {
+    const double x = u(rng), y = u(rng);
+    for (const double side : {1.0, -1.0}) {
+      const Vec3 n = normal(x, y);
+      c.points.push_back(Vec3(x, y, height(x, y)) + noise(rng) * n);
+      c.normals.push_back(side * n);
+    }
+  }
+  c.width = static_cast<int>(c.size());
+  MeshingDecision d;
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(c), &d);
+  ASSERT_FALSE(m.faces.empty());
+  double opposed = -1.0;
+  for (const auto& [name, value] : d.numbers)
+    if (name == "opposed_normals") opposed = value;
+  if (d.method == MeshMethod::poisson) {
+    EXPECT_GT(opposed, 0.3) << d.reason;
+  }
+  // One layer: about the sheet's area (4.1; two layers would be twice that), faces turned one way.
+  FaceGeometry g;
+  compute_face_geometry(m.positions, m.faces, g);
+  double area = 0.0, up = 0.0;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    area += g.areas[f];
+    up += g.normals[f].dot(normal(g.centroids[f].x(), g.centroids[f].y())) > 0.0 ? g.areas[f] : 0.0;
+  }
+  EXPECT_LT(area, 1.4 * 4.1) << d.reason;
+  EXPECT_TRUE(up / area > 0.9 || up / area < 0.1) << "share facing up " << up / area << "; " << d.reason;
 }
 
 TEST(MeshCloud, OrganizedCloudsAreMeshedOnTheirGrid) {

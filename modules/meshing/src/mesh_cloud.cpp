@@ -7,6 +7,7 @@
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/errors.h"
+#include "scanmesh/neighbourhoods.h"
 
 namespace scanmesh {
 namespace {
@@ -34,6 +35,34 @@ std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
   char b[160];
   std::snprintf(b, sizeof b, "covers %.1f%% of the points, %zu hole%s", 100.0 * f.coverage, big, big == 1 ? "" : "s");
   return b;
+}
+
+// Above this share of points with opposed normals, mesh.auto also tries Poisson on propagated normals.
+// The virtual scans (4 views) of train/'s models: closed ones 0.02-0.09, open sheets and the beetle's
+// shell 0.78-0.85; real clouds reaching this step (hippo1) 0.
+constexpr double kOpposedShare = 0.3;
+
+// Share of the points with a neighbour within 1.5 spacings whose normal points the other way
+// (n_i . n_j < -0.5): a sheet seen from both sides, each view's normals facing its own sensor, or parts
+// thinner than the point spacing. Poisson wraps such points into two layers.
+double opposed_normal_share(const PointCloud& cloud, double spacing) {
+  if (!cloud.has_normals() || !(spacing > 0.0)) return 0.0;
+  std::vector<Vec3> points, normals;
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (cloud.points[i].allFinite() && cloud.normals[i].allFinite() && cloud.normals[i].squaredNorm() > 0.0) {
+      points.push_back(cloud.points[i]);
+      normals.push_back(cloud.normals[i].normalized());
+    }
+  if (points.size() < 2) return 0.0;
+  const Adjacency near = radius_neighbourhoods(points, 1.5 * spacing, 16);
+  std::size_t opposed = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (const int* j = near.begin(i); j != near.end(i); ++j)
+      if (normals[i].dot(normals[*j]) < -0.5) {
+        ++opposed;
+        break;
+      }
+  return static_cast<double>(opposed) / static_cast<double>(points.size());
 }
 
 }  // namespace
@@ -107,18 +136,47 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     d.fit = std::move(gf);
     return g;
   }
+  bool propagated_normals = false;
   PoissonOptions chosen = poisson;  // the depth from the spacing, computed once (a pass over the points)
   if (chosen.depth <= 0) chosen.depth = poisson_depth_for(cloud, scale);
   const int depth = chosen.depth;
   say("it falls short: screened Poisson, depth " + std::to_string(depth));
-  Mesh p;
-  try {
-    p = triangulate_poisson(cloud, chosen, scale);
-    clean_mesh(p, CleanupOptions{}, cloud.sensor_origin);
-  } catch (const InputError&) {
-    p = Mesh{};
-  }
+  auto poisson_of = [&](const PointCloud& c) {
+    Mesh out;
+    try {
+      out = triangulate_poisson(c, chosen, scale);
+      clean_mesh(out, CleanupOptions{}, cloud.sensor_origin);
+    } catch (const InputError&) {
+      out = Mesh{};
+    }
+    return out;
+  };
+  Mesh p = poisson_of(cloud);
   ScanFit pf = measure_scan_fit(p, points, scale.spacing);
+  // Normals that face each view's sensor point opposite ways on the two sides of a sheet seen from both
+  // sides (or of a part thinner than the spacing), and Poisson then wraps the sheet in two layers, each
+  // off the points. Where many points have such a neighbour, Poisson also runs on normals propagated
+  // consistently from point to point, and the surface closer to the points is kept (a thin wall's two
+  // real sides stay with the sensor's normals).
+  const double opposed = opposed_normal_share(cloud, scale.spacing);
+  d.numbers.push_back({"opposed_normals", opposed});
+  if (opposed > kOpposedShare && !p.faces.empty()) {
+    PointCloud propagated = cloud;
+    propagated.normals.clear();
+    propagated.sensor_origin.reset();
+    estimate_normals(propagated, NormalOptions{});
+    Mesh q = poisson_of(propagated);
+    ScanFit qf = measure_scan_fit(q, points, scale.spacing);
+    char b[256];
+    std::snprintf(b, sizeof b, "%.0f%% of the points have a neighbour with opposite normal: Poisson on propagated normals, %.3g (sensor's: %.3g) mean distance to the points",
+                  100.0 * opposed, qf.distance_mean, pf.distance_mean);
+    say(b);
+    if (!q.faces.empty() && qf.distance_mean < pf.distance_mean) {
+      p = std::move(q);
+      pf = std::move(qf);
+      propagated_normals = true;
+    }
+  }
   say("screened Poisson: " + std::to_string(p.faces.size()) + " faces" + (p.faces.empty() ? std::string() : ", " + fit_words(pf, limits)));
   const double ps = p.faces.empty() ? 1e300 : shortfall(pf, limits);
   d.numbers.insert(d.numbers.end(), {{"poisson_coverage", pf.coverage},
@@ -128,7 +186,8 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   // The smaller shortfall wins; on a tie greedy projection, which keeps the measured points.
   if (ps < gs) {
     d.method = MeshMethod::poisson;
-    d.reason = "greedy projection " + fit_words(gf, limits) + "; screened Poisson (trimmed) " + fit_words(pf, limits) + ": Poisson";
+    d.reason = "greedy projection " + fit_words(gf, limits) + "; screened Poisson (trimmed" +
+               (propagated_normals ? ", normals propagated: the sensor's face opposite ways on a sheet" : "") + ") " + fit_words(pf, limits) + ": Poisson";
     d.fit = std::move(pf);
     return p;
   }
