@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <random>
+#include <string>
 
 #include "helpers.h"
 #include "scanmesh/clean_cloud.h"
@@ -34,6 +38,29 @@ void expect_clean(const Mesh& m) {
   EXPECT_EQ(t.inconsistent_edges, 0u);
   EXPECT_EQ(t.degenerate_faces, 0u);
   EXPECT_EQ(t.nonfinite_vertices, 0u);
+}
+
+// A curved sheet of no thickness scanned from above and below: every spot is sampled twice, with the
+// normals facing each sensor, i.e. opposite ways.
+Vec3 sheet_normal(double x, double y) {
+  return Vec3(-0.3 * std::cos(2.0 * x) * std::cos(2.0 * y), 0.3 * std::sin(2.0 * x) * std::sin(2.0 * y), 1.0).normalized();
+}
+
+PointCloud two_sided_sheet() {
+  PointCloud c;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  for (int i = 0; i < 1200; ++i) {
+    const double x = u(rng), y = u(rng);
+    for (const double side : {1.0, -1.0}) {
+      const Vec3 n = sheet_normal(x, y);
+      c.points.push_back(Vec3(x, y, 0.15 * std::sin(2.0 * x) * std::cos(2.0 * y)) + noise(rng) * n);
+      c.normals.push_back(side * n);
+    }
+  }
+  c.width = static_cast<int>(c.size());
+  return c;
 }
 
 }  // namespace
@@ -155,26 +182,8 @@ TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {
 }
 
 TEST(MeshCloud, ASheetSeenFromBothSidesIsMeshedAsOneLayer) {
-  // A curved sheet of no thickness scanned from above and below: every spot is sampled twice, with the
-  // normals facing each sensor, i.e. opposite ways. Poisson on those normals wraps the sheet in two
-  // layers; mesh.auto must notice and give one.
-  auto height = [](double x, double y) { return 0.15 * std::sin(2.0 * x) * std::cos(2.0 * y); };
-  auto normal = [](double x, double y) {
-    return Vec3(-0.3 * std::cos(2.0 * x) * std::cos(2.0 * y), 0.3 * std::sin(2.0 * x) * std::sin(2.0 * y), 1.0).normalized();
-  };
-  PointCloud c;
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::normal_distribution<double> noise(0.0, 0.01);
-  for (int i = 0; i < 1200; ++i) {
-    const double x = u(rng), y = u(rng);
-    for (const double side : {1.0, -1.0}) {
-      const Vec3 n = normal(x, y);
-      c.points.push_back(Vec3(x, y, height(x, y)) + noise(rng) * n);
-      c.normals.push_back(side * n);
-    }
-  }
-  c.width = static_cast<int>(c.size());
+  // Poisson on the sensors' normals wraps the sheet in two layers; mesh.auto must notice and give one.
+  PointCloud c = two_sided_sheet();
   MeshingDecision d;
   const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(c), &d);
   ASSERT_FALSE(m.faces.empty());
@@ -190,10 +199,32 @@ TEST(MeshCloud, ASheetSeenFromBothSidesIsMeshedAsOneLayer) {
   double area = 0.0, up = 0.0;
   for (std::size_t f = 0; f < m.num_faces(); ++f) {
     area += g.areas[f];
-    up += g.normals[f].dot(normal(g.centroids[f].x(), g.centroids[f].y())) > 0.0 ? g.areas[f] : 0.0;
+    up += g.normals[f].dot(sheet_normal(g.centroids[f].x(), g.centroids[f].y())) > 0.0 ? g.areas[f] : 0.0;
   }
   EXPECT_LT(area, 1.4 * 4.1) << d.reason;
   EXPECT_TRUE(up / area > 0.9 || up / area < 0.1) << "share facing up " << up / area << "; " << d.reason;
+}
+
+TEST(Meshing, PoissonWritesNothingOnStdout) {
+  // PCL's Poisson printf()s marching-cubes complaints; on the two-sided sheet it has many. Stdout is
+  // the user's (--quiet, pipes): they must not reach it.
+  const PointCloud c = two_sided_sheet();
+  std::fflush(stdout);
+  const int saved = ::dup(STDOUT_FILENO);
+  std::FILE* capture = std::tmpfile();
+  ASSERT_NE(capture, nullptr);
+  ::dup2(::fileno(capture), STDOUT_FILENO);
+  const Mesh m = triangulate_poisson(c, PoissonOptions{}, measure_scale(c));
+  std::printf("after\n");  // stdout works again afterwards
+  std::fflush(stdout);
+  ::dup2(saved, STDOUT_FILENO);
+  ::close(saved);
+  std::rewind(capture);
+  std::string written;
+  for (int ch; (ch = std::fgetc(capture)) != EOF;) written.push_back(static_cast<char>(ch));
+  std::fclose(capture);
+  EXPECT_FALSE(m.faces.empty());
+  EXPECT_EQ(written, "after\n");
 }
 
 TEST(MeshCloud, OrganizedCloudsAreMeshedOnTheirGrid) {

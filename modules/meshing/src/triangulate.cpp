@@ -9,8 +9,12 @@
 #include <pcl/surface/organized_fast_mesh.h>
 #include <pcl/surface/poisson.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/neighbourhoods.h"
@@ -175,6 +179,35 @@ int poisson_depth_for(const PointCloud& cloud, const CloudScale& scale) {
   return std::clamp(static_cast<int>(std::ceil(std::log2(extent / scale.spacing))), 5, 10);
 }
 
+namespace {
+
+// PCL's Poisson prints its marching cubes' complaints ("Vertex pair not in list ...") with printf, on
+// stdout, even under --quiet: they go to /dev/null while it runs.
+class StdoutSilenced {
+ public:
+  StdoutSilenced() {
+    std::fflush(stdout);
+    saved_ = ::dup(STDOUT_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDOUT_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~StdoutSilenced() {
+    std::fflush(stdout);
+    if (saved_ >= 0) {
+      ::dup2(saved_, STDOUT_FILENO);
+      ::close(saved_);
+    }
+  }
+  StdoutSilenced(const StdoutSilenced&) = delete;
+  StdoutSilenced& operator=(const StdoutSilenced&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+}  // namespace
+
 Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const CloudScale& scale) {
   if (o.depth != 0 && (o.depth < 4 || o.depth > 12))
     throw UsageError("poisson: depth must be 0 (from the point spacing) or in [4, 12]; got " + std::to_string(o.depth));
@@ -185,7 +218,10 @@ Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const
   poisson.setThreads(1);  // PCL's threaded Poisson gives a different mesh from run to run (hippo1: 35,531 faces, two md5s)
   poisson.setInputCloud(pc);
   pcl::PolygonMesh out;
-  poisson.reconstruct(out);
+  {
+    const StdoutSilenced quiet;
+    poisson.reconstruct(out);
+  }
   pcl::PointCloud<pcl::PointXYZ> verts;
   pcl::fromPCLPointCloud2(out.cloud, verts);
   Mesh m;
