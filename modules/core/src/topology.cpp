@@ -105,6 +105,9 @@ Topology build_topology(const Mesh& mesh) {
     t.edge_faces.offsets.push_back(static_cast<int>(t.edge_faces.indices.size()));
     i = j;
   }
+  // 48 bytes per face, no longer needed: freed before the adjacency lists below are built (it was half of
+  // the denoiser's peak memory).
+  std::vector<HalfEdge>().swap(half);
 
   {  // vertex -> vertices from the unique edges (self-loops of degenerate faces are skipped).
     std::vector<std::pair<int, int>> pairs;
