@@ -188,6 +188,15 @@ DenoiseCache::State* cache_for(DenoiseCache* cache, const Mesh& mesh) {
   return cache->state.get();
 }
 
+// The spatial order of `mesh`: the cache's (bound to `mesh` first if it held another one), or computed
+// into `own` without a cache. Sets *cached to the cache's state, or null.
+const SpatialOrder& order_of(const Mesh& mesh, DenoiseCache* cache, DenoiseCache::State** cached, SpatialOrder& own) {
+  *cached = cache_for(cache, mesh);
+  if (*cached != nullptr) return (*cached)->order;
+  own = spatial_order(mesh);
+  return own;
+}
+
 // The input's neighbourhoods: the cache's when it holds them at this radius, else built into the cache
 // (or into `own` without one). The cache's table is used in place, not copied.
 const Adjacency& input_neighbourhoods(DenoiseCache::State* cached, const Topology& topology, const FaceGeometry& geometry,
@@ -349,10 +358,9 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   // observer (which may look at the caller's mesh during the run) the caller's positions and faces are
   // set aside meanwhile, so a large mesh is not held twice; they are rebuilt from the copy, exactly,
   // however the run ends.
-  DenoiseCache::State* cached = cache_for(cache, mesh);
-  SpatialOrder own;
-  if (cached == nullptr) own = spatial_order(mesh);
-  const SpatialOrder& order = cached != nullptr ? cached->order : own;
+  DenoiseCache::State* cached = nullptr;
+  SpatialOrder own_order;
+  const SpatialOrder& order = order_of(mesh, cache, &cached, own_order);
   Mesh local = in_spatial_order(mesh, order);
   struct GiveBack {
     Mesh& caller;
@@ -396,10 +404,9 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
 }
 
 std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, double sigma_s, int passes, DenoiseCache* cache) {
-  DenoiseCache::State* cached = cache_for(cache, mesh);
-  SpatialOrder own;
-  if (cached == nullptr) own = spatial_order(mesh);
-  const SpatialOrder& order = cached != nullptr ? cached->order : own;
+  DenoiseCache::State* cached = nullptr;
+  SpatialOrder own_order;
+  const SpatialOrder& order = order_of(mesh, cache, &cached, own_order);
   // The same frame as denoise(): spatial order, unit scale (so the neighbourhoods are the ones its runs use).
   Mesh local = in_spatial_order(mesh, order);
   const double scale = unit_scale(local.positions);
@@ -410,9 +417,9 @@ std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, do
   const double c_a = mean_centroid_distance(local, topology, g);
   if (c_a > 0.0) {
     std::size_t capped = 0;
-    Adjacency own;
+    Adjacency own_neighbourhoods;
     const Adjacency& nbh = input_neighbourhoods(cached, topology, g, radius_factor * c_a, NeighbourhoodKind::ball,
-                                                max_neighbourhood_size(radius_factor), &capped, own);
+                                                max_neighbourhood_size(radius_factor), &capped, own_neighbourhoods);
     std::vector<Vec3> filtered;
     for (int pass = 0; pass < passes; ++pass) {
       filter_face_normals(g, nbh, c_a, sigma_s, RobustEstimator::tukey, filtered);
