@@ -1,12 +1,14 @@
 // Choosing the meshing method by measuring what each makes of the cloud.
 #include "scanmesh/mesh_cloud.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/errors.h"
+#include "scanmesh/fill_holes.h"
 #include "scanmesh/neighbourhoods.h"
 
 namespace scanmesh {
@@ -65,6 +67,32 @@ double opposed_normal_share(const PointCloud& cloud, double spacing) {
   return static_cast<double>(opposed) / static_cast<double>(points.size());
 }
 
+// Closes the loops `fit` calls holes (measured points inside: a meshing failure, not a gap in the scan).
+// A patch stays only where it lies on the data: every one of its faces' centroids within `trim` of an
+// input point, the rule that trims Poisson's surface. Returns the number of holes closed.
+std::size_t fill_scan_holes(Mesh& mesh, const ScanFit& fit, const std::vector<Vec3>& points, double trim) {
+  std::vector<std::vector<int>> rings;
+  for (const auto& l : fit.loops)
+    if (l.kind == BoundaryLoopFit::Kind::hole) rings.push_back(l.ring);
+  if (rings.empty()) return 0;
+  std::vector<FilledHole> patches = fill_holes(mesh, rings);
+  std::vector<Vec3> centroids;
+  std::vector<std::size_t> owner;
+  for (std::size_t i = 0; i < patches.size(); ++i)
+    for (std::size_t f = patches[i].first_face; f < patches[i].first_face + patches[i].faces; ++f) {
+      const Face& t = mesh.faces[f];
+      centroids.push_back((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0);
+      owner.push_back(i);
+    }
+  const std::vector<double> d = nearest_point_distances(points, centroids);
+  std::vector<char> keep(patches.size(), 0);
+  for (std::size_t i = 0; i < patches.size(); ++i) keep[i] = patches[i].filled ? 1 : 0;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (!(d[k] <= trim)) keep[owner[k]] = 0;
+  remove_patches(mesh, patches, keep);
+  return static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
+}
+
 }  // namespace
 
 const char* method_name(MeshMethod method) {
@@ -118,12 +146,25 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   Mesh g = triangulate_gp3(cloud, gp3, scale);
   clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
   ScanFit gf = measure_scan_fit(g, points, scale.spacing);
-  const double gs = shortfall(gf, limits);
   say("greedy projection: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
-  d.numbers = {{"gp3_coverage", gf.coverage}, {"gp3_holes", static_cast<double>(gf.holes)}, {"gp3_pieces", static_cast<double>(gf.pieces)}};
+  std::size_t closed_holes = 0;
+  if (method.fill_holes && shortfall(gf, limits) > 0.0) {
+    closed_holes = fill_scan_holes(g, gf, points, poisson.trim_distance.resolve(scale.spacing, scale.spacing, scale.diagonal));
+    if (closed_holes > 0) {
+      clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
+      gf = measure_scan_fit(g, points, scale.spacing);
+      say("greedy projection, " + std::to_string(closed_holes) + " holes closed: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
+    }
+  }
+  const double gs = shortfall(gf, limits);
+  const std::string gp3_words = closed_holes > 0 ? "greedy projection (" + std::to_string(closed_holes) + " holes closed)" : "greedy projection";
+  d.numbers = {{"gp3_coverage", gf.coverage},
+               {"gp3_holes", static_cast<double>(gf.holes)},
+               {"gp3_pieces", static_cast<double>(gf.pieces)},
+               {"gp3_holes_closed", static_cast<double>(closed_holes)}};
   if (gs == 0.0) {
     d.method = MeshMethod::gp3;
-    d.reason = "unorganized cloud: greedy projection " + fit_words(gf, limits);
+    d.reason = "unorganized cloud: " + gp3_words + " " + fit_words(gf, limits);
     d.fit = std::move(gf);
     return g;
   }
@@ -131,7 +172,7 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   constexpr std::size_t kMinPoissonPoints = 100;
   if (points.size() < kMinPoissonPoints) {
     d.method = MeshMethod::gp3;
-    d.reason = "greedy projection " + fit_words(gf, limits) + "; too few points (" + std::to_string(points.size()) +
+    d.reason = gp3_words + " " + fit_words(gf, limits) + "; too few points (" + std::to_string(points.size()) +
                ") for Poisson: greedy projection";
     d.fit = std::move(gf);
     return g;
@@ -186,13 +227,13 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   // The smaller shortfall wins; on a tie greedy projection, which keeps the measured points.
   if (ps < gs) {
     d.method = MeshMethod::poisson;
-    d.reason = "greedy projection " + fit_words(gf, limits) + "; screened Poisson (trimmed" +
+    d.reason = gp3_words + " " + fit_words(gf, limits) + "; screened Poisson (trimmed" +
                (propagated_normals ? ", normals propagated: the sensor's face opposite ways on a sheet" : "") + ") " + fit_words(pf, limits) + ": Poisson";
     d.fit = std::move(pf);
     return p;
   }
   d.method = MeshMethod::gp3;
-  d.reason = "greedy projection " + fit_words(gf, limits) + "; screened Poisson (trimmed) " +
+  d.reason = gp3_words + " " + fit_words(gf, limits) + "; screened Poisson (trimmed) " +
              (p.faces.empty() ? std::string("made nothing") : fit_words(pf, limits)) + ": greedy projection";
   d.fit = std::move(gf);
   return g;

@@ -136,6 +136,7 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     BoundaryLoopFit b;
     b.vertices = loop.size();
     for (std::size_t k = 0; k < loop.size(); ++k) b.perimeter += (mesh.positions[loop[k]] - mesh.positions[loop[(k + 1) % loop.size()]]).norm();
+    b.ring = loop;
     fit.loops.push_back(b);
     const int p = piece[topo.vertex_faces.begin(loop.front())[0]];
     if (b.perimeter > rim_length[p]) {

@@ -21,13 +21,18 @@ enum class MeshMethod { automatic, gp3, organized, poisson };
 /// The choice of method (mesh.auto and `scanmesh mesh`); each method's own options are its struct's.
 struct MeshMethodOptions {
   MeshMethod method = MeshMethod::automatic;
+  bool fill_holes = true;
   static const Schema<MeshMethodOptions>& schema() {
-    static const Schema<MeshMethodOptions> s = Schema<MeshMethodOptions>().choice(
+    static const Schema<MeshMethodOptions> s = Schema<MeshMethodOptions>()
+        .choice(
         "method", &MeshMethodOptions::method,
         {{"auto", MeshMethod::automatic}, {"gp3", MeshMethod::gp3}, {"organized", MeshMethod::organized}, {"poisson", MeshMethod::poisson}},
         "auto: organized meshing for grids; otherwise greedy projection, or screened Poisson where greedy projection "
         "leaves points out or holes (the better fit to the points wins); gp3 keeps the measured points as vertices; "
-        "organized needs a grid cloud; poisson makes a smooth surface with new vertices.");
+        "organized needs a grid cloud; poisson makes a smooth surface with new vertices.")
+        .flag("fill_holes", &MeshMethodOptions::fill_holes,
+              "auto: close greedy projection's holes where the scan has points before judging it; a patch stays "
+              "only where it lies within the Poisson trim distance of the points.");
     return s;
   }
 };

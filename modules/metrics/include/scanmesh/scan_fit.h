@@ -21,6 +21,7 @@ struct BoundaryLoopFit {
   Kind kind = Kind::rim;
   double perimeter = 0.0;  ///< scene units
   std::size_t vertices = 0;
+  std::vector<int> ring;   ///< its vertices in boundary order (against the orientation of the faces on it)
 };
 
 struct ScanFit {

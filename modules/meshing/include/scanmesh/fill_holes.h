@@ -1,0 +1,37 @@
+#pragma once
+// Closing holes: a boundary loop is triangulated with the least folding (largest dihedral angle first,
+// then area) by dynamic programming over its vertices, and the patch is refined until its edges are as
+// long as the loop's, its new vertices relaxed to a smooth membrane. The surface around is not touched.
+#include <cstddef>
+#include <vector>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+/// What one loop became.
+struct FilledHole {
+  bool filled = false;             ///< false: no valid triangulation (see `fill_holes`), or too many vertices
+  std::size_t first_face = 0;      ///< the patch's faces are mesh.faces[first_face, first_face + faces)
+  std::size_t faces = 0;
+  std::size_t first_vertex = 0;    ///< its new vertices are positions[first_vertex, first_vertex + vertices)
+  std::size_t vertices = 0;
+};
+
+/// Loops longer than this are left open: the triangulation costs loop length cubed.
+constexpr std::size_t kMaxFillLoopVertices = 400;
+
+/// Fills every loop of `loops`: each a ring of vertex indices in the order closed_boundary_loops walks them
+/// (against the orientation of the faces on its edges, so the patch continues that orientation). A patch
+/// never adds an edge the mesh already has, so a loop that touches itself or whose vertices are joined
+/// elsewhere gets a triangulation around that, or none. New vertices are appended, their extra vertex
+/// properties interpolated; existing vertices and faces are not changed. The triangulation costs a loop's
+/// length cubed, so loops are taken shortest first within a work budget that grows with the mesh (a mesh
+/// of many long loops stays near-linear); the rest stay open. Deterministic, whatever the thread count.
+std::vector<FilledHole> fill_holes(Mesh& mesh, const std::vector<std::vector<int>>& loops);
+
+/// Removes the faces of the patches for which `keep` is false, and the vertices they added (so vertex
+/// indices of the rest stay valid: patches are removed from the back).
+void remove_patches(Mesh& mesh, std::vector<FilledHole>& patches, const std::vector<char>& keep);
+
+}  // namespace scanmesh

@@ -1,0 +1,129 @@
+#include "scanmesh/fill_holes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "helpers.h"
+#include "scanmesh/evaluate.h"
+#include "scanmesh/scan_fit.h"
+
+using namespace scanmesh;
+
+namespace {
+
+// The rings of the loops the scan fit calls holes, for a mesh cut from a grid whose vertices are the points.
+// With `every_loop` also the rim (on a closed shape with one hole, that hole is the piece's longest loop).
+std::vector<std::vector<int>> hole_rings(const Mesh& mesh, const std::vector<Vec3>& points, bool every_loop = false) {
+  const ScanFit fit = measure_scan_fit(mesh, points, 1.0);
+  std::vector<std::vector<int>> rings;
+  for (const auto& l : fit.loops)
+    if (every_loop || l.kind == BoundaryLoopFit::Kind::hole) rings.push_back(l.ring);
+  return rings;
+}
+
+Mesh without_faces(const Mesh& m, const std::function<bool(const Vec3&)>& cut) {
+  Mesh out = m;
+  out.faces.clear();
+  for (const Face& f : m.faces)
+    if (!cut((m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3.0)) out.faces.push_back(f);
+  return out;
+}
+
+double total_area(const Mesh& m) {
+  double a = 0.0;
+  for (const Face& f : m.faces) a += 0.5 * (m.positions[f[1]] - m.positions[f[0]]).cross(m.positions[f[2]] - m.positions[f[0]]).norm();
+  return a;
+}
+
+double smallest_angle_deg(const Mesh& m, std::size_t first_face) {
+  double smallest = 180.0;
+  for (std::size_t f = first_face; f < m.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = m.positions[m.faces[f][k]];
+      const Vec3 a = m.positions[m.faces[f][(k + 1) % 3]] - p, b = m.positions[m.faces[f][(k + 2) % 3]] - p;
+      smallest = std::min(smallest, std::acos(std::clamp(a.dot(b) / (a.norm() * b.norm()), -1.0, 1.0)) * 180.0 / M_PI);
+    }
+  return smallest;
+}
+
+}  // namespace
+
+TEST(FillHoles, AHoleInAPlaneIsClosedFlatWellShapedAndFacingTheSameWay) {
+  const Mesh grid = test::make_grid(20);
+  Mesh m = without_faces(grid, [](const Vec3& c) { return (c - Vec3(10, 10, 0)).norm() < 4.5; });
+  ASSERT_LT(m.num_faces(), grid.num_faces() - 100);
+  const auto rings = hole_rings(m, grid.positions);
+  ASSERT_EQ(rings.size(), 1u);
+  const std::size_t faces_before = m.num_faces();
+  const auto patches = fill_holes(m, rings);
+  ASSERT_TRUE(patches[0].filled);
+  EXPECT_GT(patches[0].vertices, 0u) << "a hole 9 edges across needs vertices inside";
+  // The plane is whole again: same area, every face facing +z, every new vertex in the plane.
+  EXPECT_NEAR(total_area(m), 400.0, 1e-9);
+  for (const Face& f : m.faces) EXPECT_GT((m.positions[f[1]] - m.positions[f[0]]).cross(m.positions[f[2]] - m.positions[f[0]]).z(), 0.0);
+  for (std::size_t v = patches[0].first_vertex; v < m.num_vertices(); ++v) EXPECT_EQ(m.positions[v].z(), 0.0);
+  const TopologyStats t = topology_stats(m);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+  EXPECT_EQ(t.boundary_loops, 1u) << "only the grid's rim";
+  // No slivers: the patch's smallest angle.
+  EXPECT_GT(smallest_angle_deg(m, faces_before), 20.0);
+}
+
+TEST(FillHoles, LoopsThroughOnePinchVertexAreClosedWithoutRepeatingAnEdge) {
+  // Two square holes touching at the grid vertex (3, 3).
+  const Mesh grid = test::make_grid(6);
+  Mesh m = without_faces(grid, [](const Vec3& c) {
+    return (c.x() > 2 && c.x() < 3 && c.y() > 2 && c.y() < 3) || (c.x() > 3 && c.x() < 4 && c.y() > 3 && c.y() < 4);
+  });
+  const auto rings = hole_rings(m, grid.positions);
+  ASSERT_EQ(rings.size(), 2u);
+  const auto patches = fill_holes(m, rings);
+  for (const auto& p : patches) EXPECT_TRUE(p.filled);
+  EXPECT_NEAR(total_area(m), 36.0, 1e-9);
+  const TopologyStats t = topology_stats(m);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+  EXPECT_EQ(t.boundary_loops, 1u);
+}
+
+TEST(FillHoles, AHoleOnACubeFaceClosesInThatFaceAndTheCubeIsClosedAgain) {
+  const Mesh cube = test::make_cube(8);
+  Mesh m = without_faces(cube, [](const Vec3& c) { return c.z() > 1 - 1e-9 && (c - Vec3(0.5, 0.5, 1)).norm() < 0.3; });
+  const auto rings = hole_rings(m, cube.positions, true);
+  ASSERT_EQ(rings.size(), 1u);
+  const auto patches = fill_holes(m, rings);
+  ASSERT_TRUE(patches[0].filled);
+  for (std::size_t v = patches[0].first_vertex; v < m.num_vertices(); ++v) EXPECT_NEAR(m.positions[v].z(), 1.0, 1e-12);
+  for (std::size_t f = patches[0].first_face; f < m.num_faces(); ++f) {
+    const Face& g = m.faces[f];
+    EXPECT_GT((m.positions[g[1]] - m.positions[g[0]]).cross(m.positions[g[2]] - m.positions[g[0]]).z(), 0.0) << "outwards, like the cube";
+  }
+  EXPECT_NEAR(total_area(m), 6.0, 1e-9);
+  const TopologyStats t = topology_stats(m);
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+}
+
+TEST(FillHoles, RemovingThePatchesGivesTheMeshBack) {
+  const Mesh grid = test::make_grid(20);
+  const Mesh holed = without_faces(grid, [](const Vec3& c) { return (c - Vec3(5, 5, 0)).norm() < 2.5 || (c - Vec3(14, 14, 0)).norm() < 3.5; });
+  Mesh m = holed;
+  const auto rings = hole_rings(m, grid.positions);
+  ASSERT_EQ(rings.size(), 2u);
+  auto patches = fill_holes(m, rings);
+  ASSERT_GT(m.num_faces(), holed.num_faces());
+  // Remove the first patch only: the second keeps its faces, renumbered.
+  remove_patches(m, patches, {0, 1});
+  EXPECT_FALSE(patches[0].filled);
+  ASSERT_TRUE(patches[1].filled);
+  EXPECT_EQ(patches[1].first_face, holed.num_faces());
+  EXPECT_EQ(patches[1].first_vertex, holed.num_vertices());
+  EXPECT_EQ(topology_stats(m).boundary_loops, 2u) << "the rim and the second hole";
+  remove_patches(m, patches, {0, 0});
+  EXPECT_EQ(m.positions, holed.positions);
+  EXPECT_EQ(m.faces, holed.faces);
+}
