@@ -90,6 +90,31 @@ TEST(FillHoles, LoopsThroughOnePinchVertexAreClosedWithoutRepeatingAnEdge) {
   EXPECT_EQ(t.boundary_loops, 1u);
 }
 
+TEST(FillHoles, ALoopPassingAVertexTwiceIsClosedAsItsTwoParts) {
+  // The same two holes walked as one figure-eight loop through the pinch vertex.
+  const Mesh grid = test::make_grid(6);
+  Mesh m = without_faces(grid, [](const Vec3& c) {
+    return (c.x() > 2 && c.x() < 3 && c.y() > 2 && c.y() < 3) || (c.x() > 3 && c.x() < 4 && c.y() > 3 && c.y() < 4);
+  });
+  auto rings = hole_rings(m, grid.positions);
+  ASSERT_EQ(rings.size(), 2u);
+  const int pinch = 3 * 7 + 3;
+  std::vector<int> eight;
+  for (auto& r : rings) {
+    const auto at = std::find(r.begin(), r.end(), pinch);
+    ASSERT_NE(at, r.end());
+    std::rotate(r.begin(), at, r.end());
+    eight.insert(eight.end(), r.begin(), r.end());
+  }
+  const auto patches = fill_holes(m, {eight});
+  ASSERT_TRUE(patches[0].filled);
+  EXPECT_NEAR(total_area(m), 36.0, 1e-9);
+  const TopologyStats t = topology_stats(m);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+  EXPECT_EQ(t.boundary_loops, 1u);
+}
+
 TEST(FillHoles, AHoleOnACubeFaceClosesInThatFaceAndTheCubeIsClosedAgain) {
   const Mesh cube = test::make_cube(8);
   Mesh m = without_faces(cube, [](const Vec3& c) { return c.z() > 1 - 1e-9 && (c - Vec3(0.5, 0.5, 1)).norm() < 0.3; });

@@ -300,6 +300,30 @@ bool make_patch(const Mesh& mesh, const std::vector<int>& ring, const LoopNeighb
   return true;
 }
 
+// Splits a ring at every vertex it passes twice into rings that pass each vertex once (appended to `out`);
+// parts of fewer than three vertices (a slit: out along an edge and back) are dropped.
+void split_at_repeats(const std::vector<int>& ring, std::vector<std::vector<int>>& out) {
+  std::vector<std::vector<int>> todo{ring};
+  while (!todo.empty()) {
+    std::vector<int> r = std::move(todo.back());
+    todo.pop_back();
+    std::map<int, std::size_t> seen;
+    bool split = false;
+    for (std::size_t k = 0; k < r.size() && !split; ++k) {
+      auto [it, fresh] = seen.emplace(r[k], k);
+      if (fresh) continue;
+      const std::size_t i = it->second;
+      std::vector<int> inner(r.begin() + static_cast<long>(i), r.begin() + static_cast<long>(k));
+      std::vector<int> rest(r.begin(), r.begin() + static_cast<long>(i));
+      rest.insert(rest.end(), r.begin() + static_cast<long>(k), r.end());
+      todo.push_back(std::move(rest));  // LIFO: inner first, then the rest, in ring order
+      todo.push_back(std::move(inner));
+      split = true;
+    }
+    if (!split && r.size() >= 3) out.push_back(std::move(r));
+  }
+}
+
 // The patch's edges between existing vertices that are not edges of its ring.
 std::vector<Edge> diagonals(const Patch& patch, const std::vector<int>& ring) {
   std::set<Edge> on_ring;
@@ -320,61 +344,74 @@ std::vector<Edge> diagonals(const Patch& patch, const std::vector<int>& ring) {
 std::vector<FilledHole> fill_holes(Mesh& mesh, const std::vector<std::vector<int>>& loops) {
   std::vector<FilledHole> out(loops.size());
   LoopNeighbourhood around = loop_neighbourhood(mesh, loops);
-  std::vector<Patch> patches(loops.size());
-  std::vector<char> made(loops.size(), 0);
-  // The triangulation costs a loop's length cubed: loops are taken shortest first while the sum stays
+  // A loop that passes a vertex twice (two holes touching there) is closed as its simple parts: filled
+  // whole, one vertex pair could become a diagonal twice, from its two passes.
+  std::vector<std::vector<int>> rings;
+  std::vector<std::size_t> ring_loop;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    if (loops[l].size() > kMaxFillLoopVertices) continue;
+    split_at_repeats(loops[l], rings);
+    ring_loop.resize(rings.size(), l);
+  }
+  std::vector<Patch> patches(rings.size());
+  std::vector<char> made(rings.size(), 0);
+  // The triangulation costs a ring's length cubed: rings are taken shortest first while the sum stays
   // within a budget proportional to the mesh (and at least a few seconds' worth), so that a mesh made of
   // long loops still costs time linear in its size.
-  std::vector<char> attempt(loops.size(), 0);
+  std::vector<char> attempt(rings.size(), 0);
   {
-    std::vector<std::size_t> order(loops.size());
-    for (std::size_t l = 0; l < loops.size(); ++l) order[l] = l;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return loops[a].size() < loops[b].size(); });
+    std::vector<std::size_t> order(rings.size());
+    for (std::size_t r = 0; r < rings.size(); ++r) order[r] = r;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rings[a].size() < rings[b].size(); });
     const double budget = 1e9 + 600.0 * static_cast<double>(mesh.num_faces());
     double spent = 0.0;
-    for (std::size_t l : order) {
-      const auto n = static_cast<double>(loops[l].size());
-      if (loops[l].size() > kMaxFillLoopVertices || spent + n * n * n > budget) break;
+    for (std::size_t r : order) {
+      const auto n = static_cast<double>(rings[r].size());
+      if (spent + n * n * n > budget) break;
       spent += n * n * n;
-      attempt[l] = 1;
+      attempt[r] = 1;
     }
   }
-  const auto count = static_cast<long>(loops.size());
-  // Each loop on its own (the mesh is only read)...
+  const auto count = static_cast<long>(rings.size());
+  // Each ring on its own (the mesh is only read)...
 #pragma omp parallel for schedule(dynamic, 1)
-  for (long l = 0; l < count; ++l) made[l] = attempt[l] && make_patch(mesh, loops[l], around, patches[l]) ? 1 : 0;
-  // ... then, in loop order, a patch that would repeat a diagonal of an earlier one (two holes sharing two
+  for (long r = 0; r < count; ++r) made[r] = attempt[r] && make_patch(mesh, rings[r], around, patches[r]) ? 1 : 0;
+  // ... then, in order, a patch that would repeat a diagonal of an earlier one (two holes sharing two
   // vertices) is made again with those edges taken. The same mesh whatever the thread count.
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    if (!made[l]) continue;
-    std::vector<Edge> mine = diagonals(patches[l], loops[l]);
+  for (std::size_t r = 0; r < rings.size(); ++r) {
+    if (!made[r]) continue;
+    std::vector<Edge> mine = diagonals(patches[r], rings[r]);
     const bool clash = std::any_of(mine.begin(), mine.end(), [&](const Edge& e) { return around.added.count(e) > 0; });
     if (clash) {
-      made[l] = make_patch(mesh, loops[l], around, patches[l]) ? 1 : 0;
-      if (!made[l]) continue;
-      mine = diagonals(patches[l], loops[l]);
+      made[r] = make_patch(mesh, rings[r], around, patches[r]) ? 1 : 0;
+      if (!made[r]) continue;
+      mine = diagonals(patches[r], rings[r]);
     }
     around.added.insert(mine.begin(), mine.end());
   }
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    if (!made[l]) continue;
-    Patch& patch = patches[l];
-    FilledHole& h = out[l];
-    h.filled = true;
-    h.first_vertex = mesh.num_vertices();
-    h.vertices = patch.new_positions.size();
-    auto global = [&](int v) { return v >= 0 ? v : static_cast<int>(h.first_vertex) + (-v - 1); };
-    for (std::size_t k = 0; k < h.vertices; ++k) {
+  // Appended loop by loop (a loop's rings are consecutive), so each loop's patch is one range.
+  for (std::size_t r = 0; r < rings.size(); ++r) {
+    if (!made[r]) continue;
+    FilledHole& h = out[ring_loop[r]];
+    if (!h.filled) {
+      h.filled = true;
+      h.first_vertex = mesh.num_vertices();
+      h.first_face = mesh.num_faces();
+    }
+    const Patch& patch = patches[r];
+    const auto base = static_cast<int>(mesh.num_vertices());
+    auto global = [&](int v) { return v >= 0 ? v : base + (-v - 1); };
+    for (std::size_t k = 0; k < patch.new_positions.size(); ++k) {
       mesh.positions.push_back(patch.new_positions[k]);
       const int a = global(patch.parents[k].first), b = global(patch.parents[k].second);
       for (auto& prop : mesh.vertex_properties) prop.values.push_back(0.5 * (prop.values[a] + prop.values[b]));
     }
-    h.first_face = mesh.num_faces();
-    h.faces = patch.faces.size();
     for (Face f : patch.faces) {
       for (int& v : f) v = global(v);
       mesh.faces.push_back(f);
     }
+    h.vertices = mesh.num_vertices() - h.first_vertex;
+    h.faces = mesh.num_faces() - h.first_face;
   }
   return out;
 }
