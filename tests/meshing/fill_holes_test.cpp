@@ -8,6 +8,7 @@
 
 #include "helpers.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/parallel.h"
 #include "scanmesh/scan_fit.h"
 
 using namespace scanmesh;
@@ -151,4 +152,32 @@ TEST(FillHoles, RemovingThePatchesGivesTheMeshBack) {
   remove_patches(m, patches, {0, 0});
   EXPECT_EQ(m.positions, holed.positions);
   EXPECT_EQ(m.faces, holed.faces);
+}
+
+TEST(FillHoles, OneThreadAndFourGiveTheSameMesh) {
+  // Thirty holes of different sizes closed in parallel: the patches are
+  // appended in loop order whatever thread made them.
+  const Mesh grid = test::make_grid(60);
+  const Mesh holed = without_faces(grid, [](const Vec3& c) {
+    for (int k = 0; k < 30; ++k) {
+      const Vec3 centre(6.0 + 9.0 * (k % 6), 6.0 + 11.0 * (k / 6), 0.0);
+      if ((c - centre).norm() < 1.0 + 0.12 * k) return true;
+    }
+    return false;
+  });
+  const auto rings = hole_rings(holed, grid.positions);
+  ASSERT_GE(rings.size(), 25u);
+  Mesh one = holed, four = holed;
+  {
+    const ThreadScope threads(1);
+    fill_holes(one, rings);
+  }
+  {
+    const ThreadScope threads(4);
+    fill_holes(four, rings);
+  }
+  ASSERT_GT(one.num_faces(), holed.num_faces());
+  EXPECT_EQ(one.positions, four.positions);
+  EXPECT_EQ(one.faces, four.faces);
+  EXPECT_NEAR(total_area(one), 3600.0, 1e-6);
 }
