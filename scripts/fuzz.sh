@@ -14,20 +14,21 @@ bash scripts/install-deps.sh
 cmake --preset asan-ubsan > build-fuzz.log 2>&1 || { tail -30 build-fuzz.log >&2; exit 1; }
 cmake --build --preset fuzz -j"$(nproc)" >> build-fuzz.log 2>&1 || { tail -30 build-fuzz.log >&2; exit 1; }
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(obj off ply stl pcd xyz range conf pipeline)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(obj off ply stl pcd xyz range conf pipeline fill)
 mkdir -p build-asan/fuzz/findings
 for h in "${harnesses[@]}"; do
   seeds=tests/fuzz/corpus/$h
   case $h in
     range) seeds=tests/fuzz/corpus/range ;;
     pipeline) seeds=tests/fuzz/corpus/yaml ;;
+    fill) seeds=tests/fuzz/corpus/fill ;;
   esac
   work=build-asan/fuzz/corpus/$h
   mkdir -p "$work"
   extra=()
   for f in tests/hostile/*; do
     case "$h:$f" in
-      obj:*.obj|off:*.off|ply:*.ply|stl:*.stl|pcd:*.pcd|xyz:*.xyz|range:*.ply) extra+=("$f") ;;
+      obj:*.obj|off:*.off|fill:*.off|ply:*.ply|stl:*.stl|pcd:*.pcd|xyz:*.xyz|range:*.ply) extra+=("$f") ;;
     esac
   done
   [ ${#extra[@]} -gt 0 ] && cp "${extra[@]}" "$work"/
