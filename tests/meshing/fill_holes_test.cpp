@@ -39,6 +39,22 @@ double total_area(const Mesh& m) {
   return a;
 }
 
+// The 6 x 6 grid without the unit squares at (2, 2) and (3, 3): two holes touching at vertex (3, 3).
+Mesh two_touching_holes(const Mesh& grid) {
+  return without_faces(grid, [](const Vec3& c) {
+    return (c.x() > 2 && c.x() < 3 && c.y() > 2 && c.y() < 3) || (c.x() > 3 && c.x() < 4 && c.y() > 3 && c.y() < 4);
+  });
+}
+
+// A grid closed again: its area, manifold, consistently oriented, only its rim open.
+void expect_whole_grid(const Mesh& m, double area) {
+  EXPECT_NEAR(total_area(m), area, 1e-9);
+  const TopologyStats t = topology_stats(m);
+  EXPECT_EQ(t.nonmanifold_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+  EXPECT_EQ(t.boundary_loops, 1u);
+}
+
 double smallest_angle_deg(const Mesh& m, std::size_t first_face) {
   double smallest = 180.0;
   for (std::size_t f = first_face; f < m.num_faces(); ++f)
@@ -77,26 +93,18 @@ TEST(FillHoles, AHoleInAPlaneIsClosedFlatWellShapedAndFacingTheSameWay) {
 TEST(FillHoles, LoopsThroughOnePinchVertexAreClosedWithoutRepeatingAnEdge) {
   // Two square holes touching at the grid vertex (3, 3).
   const Mesh grid = test::make_grid(6);
-  Mesh m = without_faces(grid, [](const Vec3& c) {
-    return (c.x() > 2 && c.x() < 3 && c.y() > 2 && c.y() < 3) || (c.x() > 3 && c.x() < 4 && c.y() > 3 && c.y() < 4);
-  });
+  Mesh m = two_touching_holes(grid);
   const auto rings = hole_rings(m, grid.positions);
   ASSERT_EQ(rings.size(), 2u);
   const auto patches = fill_holes(m, rings);
   for (const auto& p : patches) EXPECT_TRUE(p.filled);
-  EXPECT_NEAR(total_area(m), 36.0, 1e-9);
-  const TopologyStats t = topology_stats(m);
-  EXPECT_EQ(t.nonmanifold_edges, 0u);
-  EXPECT_EQ(t.inconsistent_edges, 0u);
-  EXPECT_EQ(t.boundary_loops, 1u);
+  expect_whole_grid(m, 36.0);
 }
 
 TEST(FillHoles, ALoopPassingAVertexTwiceIsClosedAsItsTwoParts) {
   // The same two holes walked as one figure-eight loop through the pinch vertex.
   const Mesh grid = test::make_grid(6);
-  Mesh m = without_faces(grid, [](const Vec3& c) {
-    return (c.x() > 2 && c.x() < 3 && c.y() > 2 && c.y() < 3) || (c.x() > 3 && c.x() < 4 && c.y() > 3 && c.y() < 4);
-  });
+  Mesh m = two_touching_holes(grid);
   auto rings = hole_rings(m, grid.positions);
   ASSERT_EQ(rings.size(), 2u);
   const int pinch = 3 * 7 + 3;
@@ -109,11 +117,7 @@ TEST(FillHoles, ALoopPassingAVertexTwiceIsClosedAsItsTwoParts) {
   }
   const auto patches = fill_holes(m, {eight});
   ASSERT_TRUE(patches[0].filled);
-  EXPECT_NEAR(total_area(m), 36.0, 1e-9);
-  const TopologyStats t = topology_stats(m);
-  EXPECT_EQ(t.nonmanifold_edges, 0u);
-  EXPECT_EQ(t.inconsistent_edges, 0u);
-  EXPECT_EQ(t.boundary_loops, 1u);
+  expect_whole_grid(m, 36.0);
 }
 
 TEST(FillHoles, AHoleOnACubeFaceClosesInThatFaceAndTheCubeIsClosedAgain) {
