@@ -169,7 +169,9 @@ TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {
   c.width = static_cast<int>(c.size());
   MeshingDecision d;
   const CloudScale s = measure_scale(c);
-  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
+  MeshMethodOptions keep_holes;
+  keep_holes.fill_holes = false;
+  const Mesh m = mesh_cloud(c, keep_holes, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
   // Whatever won represents the points at least as well as greedy projection alone.
   const ScanFit gp3 = measure_scan_fit(triangulate_gp3(c, Gp3Options{}, s), c.points, s.spacing);
   EXPECT_GE(d.fit.coverage, gp3.coverage);
@@ -179,6 +181,24 @@ TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {
   }
   EXPECT_FALSE(m.faces.empty());
   EXPECT_NE(d.reason.find("covers"), std::string::npos);
+
+  // With greedy projection's holes closed first (the default), greedy projection is kept only when
+  // nothing is left that would make it fall short, and then says how many holes it closed.
+  MeshingDecision e;
+  const Mesh closed = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &e);
+  EXPECT_FALSE(closed.faces.empty());
+  EXPECT_GE(e.fit.coverage, gp3.coverage);
+  if (e.method == MeshMethod::gp3) {
+    const ScanFitLimits limits;
+    EXPECT_GE(e.fit.coverage, limits.min_coverage) << e.reason;
+    for (const auto& loop : e.fit.loops)
+      EXPECT_FALSE(loop.kind == BoundaryLoopFit::Kind::hole && loop.perimeter >= limits.min_hole_perimeter * e.fit.spacing) << e.reason;
+    if (gp3.holes > 0) {
+      EXPECT_NE(e.reason.find("holes closed"), std::string::npos) << e.reason;
+    }
+  } else {
+    EXPECT_EQ(e.method, MeshMethod::poisson) << e.reason;
+  }
 }
 
 TEST(MeshCloud, ASheetSeenFromBothSidesIsMeshedAsOneLayer) {
