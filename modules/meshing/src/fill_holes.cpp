@@ -11,6 +11,8 @@
 #include <set>
 #include <utility>
 
+#include "scanmesh/geometry.h"
+
 namespace scanmesh {
 namespace {
 
@@ -81,11 +83,6 @@ double fold_between(const Vec3& unit_a, const Vec3& unit_b) {
   return 1.0 - unit_a.dot(unit_b);
 }
 
-Vec3 unit_or_zero(const Vec3& n) {
-  const double l = n.norm();
-  return l > 0.0 ? Vec3(n / l) : Vec3(Vec3::Zero());
-}
-
 // Triangulates the ring (local indices 0..n-1, positions p); returns triangles as local index triples,
 // empty if none is valid. `outer[k]`: unit normal of the mesh face on the ring's edge k -> k+1 (zero if
 // there is none). O(n^3) time, O(n^2) memory.
@@ -93,12 +90,12 @@ std::vector<std::array<int, 3>> triangulate_ring(const std::vector<int>& ring, c
                                                  const std::vector<Vec3>& outer, const LoopNeighbourhood& around) {
   const int n = static_cast<int>(ring.size());
   auto at = [n](int i, int j) { return static_cast<std::size_t>(i) * n + j; };
-  // A diagonal i-j is allowed unless it joins a vertex to itself (a loop through a pinch vertex) or is
-  // an edge the mesh already has.
+  // A diagonal i-j is allowed unless it is an edge the mesh (or an earlier patch) already has. The ring
+  // passes each vertex once (fill_holes splits it where it does not).
   std::vector<char> allowed(static_cast<std::size_t>(n) * n, 1);
   for (int i = 0; i < n; ++i)
     for (int j = i + 2; j < n; ++j)
-      if (!(i == 0 && j == n - 1) && (ring[i] == ring[j] || around.has_edge(ring[i], ring[j]))) allowed[at(i, j)] = 0;
+      if (!(i == 0 && j == n - 1) && around.has_edge(ring[i], ring[j])) allowed[at(i, j)] = 0;
   std::vector<Cost> cost(static_cast<std::size_t>(n) * n);
   std::vector<int> split(static_cast<std::size_t>(n) * n, -1);
   std::vector<Vec3> unit(static_cast<std::size_t>(n) * n, Vec3::Zero());  // of the triangle on (i, j), inside
@@ -113,17 +110,15 @@ std::vector<std::array<int, 3>> triangulate_ring(const std::vector<int>& ring, c
       Cost best;
       int best_m = -1;
       Vec3 best_unit = Vec3::Zero();
-      const Vec3 ij = p[j] - p[i];
       for (int m = i + 1; m < j; ++m) {
         const Cost& a = cost[at(i, m)];
         const Cost& b = cost[at(m, j)];
         if (!(a.area < std::numeric_limits<double>::infinity()) || !(b.area < std::numeric_limits<double>::infinity())) continue;
-        const Vec3 nt = (p[m] - p[i]).cross(ij);
-        const double twice_area = nt.norm();
-        const Vec3 u = twice_area > 0.0 ? Vec3(nt / twice_area) : Vec3(Vec3::Zero());
+        double area = 0.0;
+        const Vec3 u = triangle_normal(p[i], p[m], p[j], &area);
         double fold = std::max({a.fold, b.fold, fold_between(u, unit[at(i, m)]), fold_between(u, unit[at(m, j)])});
         if (i == 0 && j == n - 1) fold = std::max(fold, fold_between(u, outer[n - 1]));
-        const Cost c{fold, a.area + b.area + 0.5 * twice_area};
+        const Cost c{fold, a.area + b.area + area};
         if (c < best) {
           best = c;
           best_m = m;
@@ -275,15 +270,11 @@ void refine(const Mesh& mesh, Patch& patch, double target, const LoopNeighbourho
   }
 }
 
-}  // namespace
-
-namespace {
-
 // Triangulates and refines one loop into `patch`; false if the loop has no valid triangulation.
 bool make_patch(const Mesh& mesh, const std::vector<int>& ring, const LoopNeighbourhood& around, Patch& patch) {
   patch = Patch{};
   const std::size_t n = ring.size();
-  if (n < 3 || n > kMaxFillLoopVertices) return false;
+  if (n < 3) return false;
   std::vector<Vec3> p(n), outer(n);
   double perimeter = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -291,7 +282,7 @@ bool make_patch(const Mesh& mesh, const std::vector<int>& ring, const LoopNeighb
     p[k] = mesh.positions[a];
     perimeter += (mesh.positions[b] - mesh.positions[a]).norm();
     const int c = around.third(b, a);  // the mesh face on this edge runs b -> a
-    outer[k] = c >= 0 ? unit_or_zero(face_normal(mesh.positions[b], mesh.positions[a], mesh.positions[c])) : Vec3(Vec3::Zero());
+    outer[k] = c >= 0 ? triangle_normal(mesh.positions[b], mesh.positions[a], mesh.positions[c]) : Vec3(Vec3::Zero());
   }
   const auto tris = triangulate_ring(ring, p, outer, around);
   if (tris.empty()) return false;

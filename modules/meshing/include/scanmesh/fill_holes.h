@@ -23,15 +23,17 @@ constexpr std::size_t kMaxFillLoopVertices = 400;
 
 /// Fills every loop of `loops`: each a ring of vertex indices in the order closed_boundary_loops walks them
 /// (against the orientation of the faces on its edges, so the patch continues that orientation). A patch
-/// never adds an edge the mesh already has, so a loop that touches itself or whose vertices are joined
-/// elsewhere gets a triangulation around that, or none. New vertices are appended, their extra vertex
+/// never adds an edge the mesh or an earlier patch already has (a loop whose vertices are joined
+/// elsewhere gets a triangulation around that, or none); a loop that passes a vertex twice is closed as
+/// its simple parts. New vertices are appended, their extra vertex
 /// properties interpolated; existing vertices and faces are not changed. The triangulation costs a loop's
 /// length cubed, so loops are taken shortest first within a work budget that grows with the mesh (a mesh
 /// of many long loops stays near-linear); the rest stay open. Deterministic, whatever the thread count.
 std::vector<FilledHole> fill_holes(Mesh& mesh, const std::vector<std::vector<int>>& loops);
 
-/// Removes the faces of the patches for which `keep` is false, and the vertices they added (so vertex
-/// indices of the rest stay valid: patches are removed from the back).
+/// Removes the faces of the patches for which `keep` is false and the vertices they added; the other
+/// vertices and faces keep their order, and the kept patches' ranges are updated (removed ones become
+/// not `filled`).
 void remove_patches(Mesh& mesh, std::vector<FilledHole>& patches, const std::vector<char>& keep);
 
 }  // namespace scanmesh
