@@ -52,14 +52,16 @@ std::vector<Vec3> vertex_normals(const Topology& topology, const FaceGeometry& g
   const auto nv = static_cast<long>(topology.vertex_faces.rows());
   std::vector<Vec3> normals(nv, Vec3::Zero());
 #pragma omp parallel for schedule(static)
-  for (long v = 0; v < nv; ++v) {
-    Vec3 n = Vec3::Zero();
-    for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
-      n += geometry.areas[*f] * geometry.normals[*f];
-    const double len = n.norm();
-    normals[v] = len > 0.0 ? Vec3(n / len) : Vec3::Zero();
-  }
+  for (long v = 0; v < nv; ++v) normals[v] = vertex_normal(topology, geometry, static_cast<std::size_t>(v));
   return normals;
+}
+
+Vec3 vertex_normal(const Topology& topology, const FaceGeometry& geometry, std::size_t v) {
+  Vec3 n = Vec3::Zero();
+  for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
+    n += geometry.areas[*f] * geometry.normals[*f];
+  const double len = n.norm();
+  return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
 
 double bbox_diagonal(const std::vector<Vec3>& positions) {

@@ -11,6 +11,7 @@
 #include "scanmesh/errors.h"
 #include "scanmesh/noise_analysis.h"
 #include "scanmesh/geometry.h"
+#include "scanmesh/memory.h"
 #include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"
 #include "scanmesh/vertex_update.h"
@@ -166,13 +167,13 @@ struct DenoiseCache::State {
   bool has_neighbourhoods = false;
   double radius = 0.0;
   int max_size = 0;
-  Adjacency neighbourhoods;
+  PackedRows neighbourhoods;
   std::size_t capped = 0;
 };
 
 DenoiseCache::DenoiseCache() = default;
 DenoiseCache::~DenoiseCache() = default;
-std::size_t DenoiseCache::cached_neighbours() const { return state ? state->neighbourhoods.indices.size() : 0; }
+std::size_t DenoiseCache::cached_neighbours() const { return state ? state->neighbourhoods.entries() : 0; }
 
 namespace {
 
@@ -199,17 +200,17 @@ const SpatialOrder& order_of(const Mesh& mesh, DenoiseCache* cache, DenoiseCache
 
 // The input's neighbourhoods: the cache's when it holds them at this radius, else built into the cache
 // (or into `own` without one). The cache's table is used in place, not copied.
-const Adjacency& input_neighbourhoods(DenoiseCache::State* cached, const Topology& topology, const FaceGeometry& geometry,
-                                      double radius, NeighbourhoodKind kind, int max_size, std::size_t* capped, Adjacency& own) {
+const PackedRows& input_neighbourhoods(DenoiseCache::State* cached, const Topology& topology, const FaceGeometry& geometry,
+                                       double radius, NeighbourhoodKind kind, int max_size, std::size_t* capped, PackedRows& own) {
   const bool usable = cached != nullptr && kind == NeighbourhoodKind::ball;
   if (usable && cached->has_neighbourhoods && cached->radius == radius && cached->max_size == max_size) {
     *capped = cached->capped;
     return cached->neighbourhoods;
   }
-  Adjacency& out = usable ? cached->neighbourhoods : own;
+  PackedRows& out = usable ? cached->neighbourhoods : own;
   if (usable) cached->has_neighbourhoods = false;
-  out = Adjacency{};  // the old table goes before the new one is built
-  out = face_neighbourhoods(topology, geometry, radius, kind, max_size, capped, true);
+  out = PackedRows{};  // the old table goes before the new one is built
+  out = packed_face_neighbourhoods(topology, geometry, radius, kind, max_size, capped, true);
   if (usable) {
     cached->has_neighbourhoods = true;
     cached->radius = radius;
@@ -244,10 +245,8 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   if (boundary) curves = build_boundary_curves(mesh, topology);
   for (auto b : topology.boundary_vertex) report.boundary_vertices += b;
 
-  const Adjacency fidelity = fidelity_neighbours(mesh, topology);
-  std::vector<Vec3> positions = mesh.positions, updated, unscaled;
   FaceGeometry geometry;
-  compute_face_geometry(positions, mesh.faces, geometry);
+  compute_face_geometry(mesh.positions, mesh.faces, geometry);
   report.exact_plane_fraction = exact_plane_fraction(mesh, topology, geometry);
 
   const double c_a = mean_centroid_distance(mesh, topology, geometry);
@@ -272,20 +271,25 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   const double target = options.target_displacement * mean_edge_length(mesh, topology);
   // From here on only vertex_faces and the boundary flags of the topology are needed (and face_faces for
   // connected-ball neighbourhoods): the rest, ~70 bytes per face, goes before the neighbourhoods are built.
+  const PackedRows fidelity = PackedRows::from(fidelity_neighbours(mesh, topology));  // may take topology.vertex_vertices
   auto release = [](auto& v) { v = std::decay_t<decltype(v)>{}; };  // move-assigning an empty one frees the memory
   release(topology.vertex_vertices);
   release(topology.edges);
   release(topology.edge_faces);
   release(topology.face_edges);
   if (options.neighbourhood == NeighbourhoodKind::ball) release(topology.face_faces);
+  return_free_memory();
 
   auto t0 = std::chrono::steady_clock::now();
-  Adjacency own_neighbourhoods;
-  const Adjacency* neighbourhoods = &input_neighbourhoods(cached, topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+  PackedRows own_neighbourhoods;
+  const PackedRows* neighbourhoods = &input_neighbourhoods(cached, topology, geometry, options.radius_factor * c_a, options.neighbourhood,
                                                           max_neighbourhood_size(options.radius_factor), &report.capped_neighbourhoods,
                                                           own_neighbourhoods);
-  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods->indices.size()) / static_cast<double>(mesh.num_faces());
+  report.mean_neighbourhood_size = static_cast<double>(neighbourhoods->entries()) / static_cast<double>(mesh.num_faces());
+  return_free_memory();  // the k-d tree's result rows
   report.seconds_neighbourhoods += seconds_since(t0);
+  // The working copy of the positions is made only now, after the neighbourhood search's peak.
+  std::vector<Vec3> positions = mesh.positions, updated, unscaled;
   // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
   auto displacement = [&] { return normal_displacement(topology, geometry, mesh.positions, positions); };
 
@@ -295,8 +299,8 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   for (int it = 0; it < options.iterations; ++it) {
     if (options.recompute_neighbourhoods && it > 0) {
       t0 = std::chrono::steady_clock::now();
-      own_neighbourhoods = Adjacency{};
-      own_neighbourhoods = face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
+      own_neighbourhoods = PackedRows{};
+      own_neighbourhoods = packed_face_neighbourhoods(topology, geometry, options.radius_factor * c_a, options.neighbourhood,
                                                max_neighbourhood_size(options.radius_factor), nullptr, true);
       neighbourhoods = &own_neighbourhoods;
       report.seconds_neighbourhoods += seconds_since(t0);
@@ -417,8 +421,8 @@ std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, do
   const double c_a = mean_centroid_distance(local, topology, g);
   if (c_a > 0.0) {
     std::size_t capped = 0;
-    Adjacency own_neighbourhoods;
-    const Adjacency& nbh = input_neighbourhoods(cached, topology, g, radius_factor * c_a, NeighbourhoodKind::ball,
+    PackedRows own_neighbourhoods;
+    const PackedRows& nbh = input_neighbourhoods(cached, topology, g, radius_factor * c_a, NeighbourhoodKind::ball,
                                                 max_neighbourhood_size(radius_factor), &capped, own_neighbourhoods);
     std::vector<Vec3> filtered;
     for (int pass = 0; pass < passes; ++pass) {
@@ -455,12 +459,12 @@ double normal_displacement(const Topology& topology, const std::vector<Face>& fa
 
 double normal_displacement(const Topology& topology, const FaceGeometry& geometry, const std::vector<Vec3>& from,
                            const std::vector<Vec3>& to) {
-  const std::vector<Vec3> vn = vertex_normals(topology, geometry);
+  // Each vertex normal as it is needed: a table of them was the denoiser's peak memory on large meshes.
   double sum = 0.0;
   std::size_t n = 0;
   for (std::size_t v = 0; v < to.size(); ++v) {
     if (topology.vertex_faces.size(v) == 0) continue;
-    const double d = (to[v] - from[v]).dot(vn[v]);
+    const double d = (to[v] - from[v]).dot(vertex_normal(topology, geometry, v));
     sum += d * d;
     ++n;
   }

@@ -56,6 +56,29 @@ inline double exp_nonpositive(double x) {
   return p * kExpTable.v[ki - 256 * m] * scale;
 }
 
+// A face's neighbourhood as a pointer and a length: an Adjacency's row in place, a PackedRows' row unpacked
+// into a per-thread buffer (grown once, never inside the iterations after the first).
+struct PlainRows {
+  const Adjacency& a;
+  [[gnu::always_inline]] const int* row(long i, int& count) const {
+    count = a.size(static_cast<std::size_t>(i));
+    return a.begin(static_cast<std::size_t>(i));
+  }
+};
+struct UnpackedRows {
+  const PackedRows& p;
+  int* buffer;
+  [[gnu::always_inline]] const int* row(long i, int& count) const {
+    count = p.unpack(static_cast<std::size_t>(i), static_cast<int>(i), buffer);
+    return buffer;
+  }
+};
+int* row_buffer(const PackedRows& p) {
+  thread_local std::vector<int> buffer;
+  if (buffer.size() < static_cast<std::size_t>(p.max_row())) buffer.resize(static_cast<std::size_t>(p.max_row()));
+  return buffer.data();
+}
+
 // The Tukey kernel works on four neighbours at a time, as four lanes of doubles. On a machine with AVX2
 // the four lanes are one register; otherwise they are two SSE2 registers of two lanes, processed one after
 // the other (letting GCC split four-lane vectors itself spills them to the stack and ran 1.7x slower than
@@ -124,8 +147,8 @@ template <int W>
 // Tukey's estimator, the default and the one --auto uses, for faces [first, last): neighbours k, k+1,
 // k+2, k+3 of face i go to lanes 0-3 (lanes past the end of a neighbourhood, and neighbours the estimator
 // rejects, get weight 0), each lane sums its own, and the four lane sums are added as (0+1)+(2+3).
-template <int W>
-[[gnu::always_inline]] inline void filter_tukey(const FaceGeometry& g, const Adjacency& nbh, double sigma_c,
+template <int W, class Rows>
+[[gnu::always_inline]] inline void filter_tukey(const FaceGeometry& g, const Rows& nbh, double sigma_c,
                                                 double global_sigma_s, const std::vector<double>* face_sigma,
                                                 std::vector<Vec3>& out, long first, long last) {
   using V = Vd<W>;
@@ -144,8 +167,8 @@ template <int W>
     const V cx = splat<W>(ci.x()), cy = splat<W>(ci.y()), cz = splat<W>(ci.z());
     V sx[kGroups], sy[kGroups], sz[kGroups];
     for (int q = 0; q < kGroups; ++q) sx[q] = sy[q] = sz[q] = splat<W>(0.0);
-    const int* row = nbh.begin(i);
-    const int count = nbh.size(i);
+    int count = 0;
+    const int* row = nbh.row(i, count);
     for (int k = 0; k < count; k += 4) {
       for (int q = 0; q < kGroups; ++q) {
         V mx, my, mz, ex, ey, ez, a, live;
@@ -181,50 +204,58 @@ template <int W>
   }
 }
 
-__attribute__((target("avx2"))) void filter_tukey_avx2(const FaceGeometry& g, const Adjacency& nbh, double sigma_c,
+template <class Rows>
+__attribute__((target("avx2"))) void filter_tukey_avx2(const FaceGeometry& g, const Rows& nbh, double sigma_c,
                                                        double sigma_s, const std::vector<double>* face_sigma,
                                                        std::vector<Vec3>& out, long first, long last) {
   filter_tukey<4>(g, nbh, sigma_c, sigma_s, face_sigma, out, first, last);
 }
 
-void filter_tukey_sse2(const FaceGeometry& g, const Adjacency& nbh, double sigma_c, double sigma_s,
+template <class Rows>
+void filter_tukey_sse2(const FaceGeometry& g, const Rows& nbh, double sigma_c, double sigma_s,
                        const std::vector<double>* face_sigma, std::vector<Vec3>& out, long first, long last) {
   filter_tukey<2>(g, nbh, sigma_c, sigma_s, face_sigma, out, first, last);
 }
 
 // The other estimators, one neighbour at a time; the estimator is a template parameter so the hot loop
 // has no switch in it.
-template <RobustEstimator E>
-void filter_impl(const FaceGeometry& g, const Adjacency& nbh, double sigma_c, double global_sigma_s,
+template <RobustEstimator E, class MakeRows>
+void filter_impl(const FaceGeometry& g, MakeRows make_rows, double sigma_c, double global_sigma_s,
                  const std::vector<double>* face_sigma, std::vector<Vec3>& out) {
   const auto nf = static_cast<long>(g.normals.size());
   const double inv_two_sc2 = 1.0 / (2.0 * sigma_c * sigma_c);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (long i = 0; i < nf; ++i) {
-    const double sigma_s = face_sigma != nullptr ? (*face_sigma)[i] : global_sigma_s;
-    const double ss2 = sigma_s * sigma_s;
-    const double inv_two_ss2 = 1.0 / (2.0 * sigma_s * sigma_s);
-    const Vec3& ni = g.normals[i];
-    const Vec3& ci = g.centroids[i];
-    Vec3 sum = Vec3::Zero();
-    for (const int* j = nbh.begin(i); j != nbh.end(i); ++j) {
-      const double aj = g.areas[*j];
-      if (aj == 0.0) continue;
-      const Vec3& nj = g.normals[*j];
-      const double x2 = (ni - nj).squaredNorm();
-      double w;
-      if constexpr (E == RobustEstimator::gaussian) {
-        w = std::exp(-x2 * inv_two_ss2);
-      } else if constexpr (E == RobustEstimator::huber) {
-        w = x2 <= ss2 ? 1.0 : sigma_s / std::sqrt(x2);
-      } else {
-        w = 1.0 / (1.0 + x2 * inv_two_ss2);
+#pragma omp parallel
+  {
+    const auto nbh = make_rows();
+#pragma omp for schedule(dynamic, 512)
+    for (long i = 0; i < nf; ++i) {
+      const double sigma_s = face_sigma != nullptr ? (*face_sigma)[i] : global_sigma_s;
+      const double ss2 = sigma_s * sigma_s;
+      const double inv_two_ss2 = 1.0 / (2.0 * sigma_s * sigma_s);
+      const Vec3& ni = g.normals[i];
+      const Vec3& ci = g.centroids[i];
+      Vec3 sum = Vec3::Zero();
+      int count = 0;
+      const int* row = nbh.row(i, count);
+      for (const int* j = row; j != row + count; ++j) {
+        const double aj = g.areas[*j];
+        if (aj == 0.0) continue;
+        const Vec3& nj = g.normals[*j];
+        const double x2 = (ni - nj).squaredNorm();
+        double w;
+        if constexpr (E == RobustEstimator::gaussian) {
+          w = std::exp(-x2 * inv_two_ss2);
+        } else if constexpr (E == RobustEstimator::huber) {
+          w = x2 <= ss2 ? 1.0 : sigma_s / std::sqrt(x2);
+        } else {
+          w = 1.0 / (1.0 + x2 * inv_two_ss2);
+        }
+        const double d2 = (ci - g.centroids[*j]).squaredNorm();
+        sum += (aj * exp_nonpositive(-d2 * inv_two_sc2) * w) * nj;
       }
-      const double d2 = (ci - g.centroids[*j]).squaredNorm();
-      sum += (aj * exp_nonpositive(-d2 * inv_two_sc2) * w) * nj;
+      const double len = sum.norm();
+      out[i] = len > 0.0 ? Vec3(sum / len) : ni;
     }
-    const double len = sum.norm();
-    out[i] = len > 0.0 ? Vec3(sum / len) : ni;
   }
 }
 
@@ -239,26 +270,47 @@ bool cpu_has_avx2() {
 
 void set_filter_isa(FilterIsa isa) { g_isa = isa; }
 
-void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c,
-                         double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
-                         const std::vector<double>* face_sigma) {
-  filtered.resize(geometry.normals.size());
-  const auto& g = geometry;
-  const auto& n = neighbourhoods;
+namespace {
+
+// `make_rows()` gives each thread its view of the neighbourhood table.
+template <class MakeRows>
+void filter_with(const FaceGeometry& g, MakeRows make_rows, double sigma_c, double sigma_s, RobustEstimator estimator,
+                 std::vector<Vec3>& filtered, const std::vector<double>* face_sigma) {
+  filtered.resize(g.normals.size());
+  using Rows = decltype(make_rows());
   switch (estimator) {
     case RobustEstimator::tukey: {
       const auto nf = static_cast<long>(g.normals.size());
       constexpr long kBlock = 512;
-      const auto kernel = g_isa == FilterIsa::best && cpu_has_avx2() ? filter_tukey_avx2 : filter_tukey_sse2;
-#pragma omp parallel for schedule(dynamic, 1)
-      for (long b = 0; b < (nf + kBlock - 1) / kBlock; ++b)
-        kernel(g, n, sigma_c, sigma_s, face_sigma, filtered, b * kBlock, std::min(nf, (b + 1) * kBlock));
+      const auto kernel = g_isa == FilterIsa::best && cpu_has_avx2() ? filter_tukey_avx2<Rows> : filter_tukey_sse2<Rows>;
+#pragma omp parallel
+      {
+        const Rows rows = make_rows();
+#pragma omp for schedule(dynamic, 1)
+        for (long b = 0; b < (nf + kBlock - 1) / kBlock; ++b)
+          kernel(g, rows, sigma_c, sigma_s, face_sigma, filtered, b * kBlock, std::min(nf, (b + 1) * kBlock));
+      }
       break;
     }
-    case RobustEstimator::gaussian: filter_impl<RobustEstimator::gaussian>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
-    case RobustEstimator::huber: filter_impl<RobustEstimator::huber>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
-    case RobustEstimator::lorentzian: filter_impl<RobustEstimator::lorentzian>(g, n, sigma_c, sigma_s, face_sigma, filtered); break;
+    case RobustEstimator::gaussian: filter_impl<RobustEstimator::gaussian>(g, make_rows, sigma_c, sigma_s, face_sigma, filtered); break;
+    case RobustEstimator::huber: filter_impl<RobustEstimator::huber>(g, make_rows, sigma_c, sigma_s, face_sigma, filtered); break;
+    case RobustEstimator::lorentzian: filter_impl<RobustEstimator::lorentzian>(g, make_rows, sigma_c, sigma_s, face_sigma, filtered); break;
   }
+}
+
+}  // namespace
+
+void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c,
+                         double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
+                         const std::vector<double>* face_sigma) {
+  filter_with(geometry, [&] { return PlainRows{neighbourhoods}; }, sigma_c, sigma_s, estimator, filtered, face_sigma);
+}
+
+void filter_face_normals(const FaceGeometry& geometry, const PackedRows& neighbourhoods, double sigma_c,
+                         double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
+                         const std::vector<double>* face_sigma) {
+  filter_with(geometry, [&] { return UnpackedRows{neighbourhoods, row_buffer(neighbourhoods)}; }, sigma_c, sigma_s, estimator,
+              filtered, face_sigma);
 }
 
 void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
@@ -393,6 +445,13 @@ Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geom
   a.indices.reserve(static_cast<std::size_t>(a.offsets.back()));
   for (const auto& r : rows) a.indices.insert(a.indices.end(), r.begin(), r.end());
   return a;
+}
+
+PackedRows packed_face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,
+                                      NeighbourhoodKind kind, int max_size, std::size_t* capped, bool spatially_ordered) {
+  if (kind == NeighbourhoodKind::ball)
+    return packed_radius_neighbourhoods(geometry.centroids, radius, max_size, capped, spatially_ordered);
+  return PackedRows::from(face_neighbourhoods(topology, geometry, radius, kind, max_size, capped, spatially_ordered));
 }
 
 }  // namespace scanmesh

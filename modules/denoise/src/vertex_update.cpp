@@ -5,8 +5,18 @@
 #include <cmath>
 
 namespace scanmesh {
+namespace {
 
-Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology) {
+// True if `keep` holds every edge between two distinct vertices.
+bool every_edge_kept(const Topology& topology, const std::vector<std::uint8_t>& keep) {
+  for (std::size_t e = 0; e < topology.edges.size(); ++e)
+    if (!keep[e] && topology.edges[e][0] != topology.edges[e][1]) return false;
+  return true;
+}
+
+}  // namespace
+
+Adjacency fidelity_neighbours(const Mesh& mesh, Topology& topology) {
   std::vector<std::uint8_t> solid(mesh.num_faces(), 0);
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
     const Vec3& a = mesh.positions[mesh.faces[f][0]];
@@ -24,6 +34,13 @@ Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology) {
     for (const int* f = topology.edge_faces.begin(e); f != topology.edge_faces.end(e) && !keep[e]; ++f) keep[e] = solid[*f];
     if (keep[e]) ++count[a + 1], ++count[b + 1];
   }
+  // Usually every edge qualifies and the rows are topology.vertex_vertices exactly (built from the same
+  // unique edges, self-loops skipped, ascending): take them instead of a second table of the same size.
+  if (every_edge_kept(topology, keep)) {
+    Adjacency n = std::move(topology.vertex_vertices);
+    topology.vertex_vertices = Adjacency{};
+    return n;
+  }
   Adjacency n;
   for (std::size_t v = 0; v < nv; ++v) count[v + 1] += count[v];
   n.offsets.assign(count.begin(), count.end());
@@ -37,7 +54,7 @@ Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology) {
   return n;
 }
 
-void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const Adjacency& neighbours,
+void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const PackedRows& neighbours,
                      const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
                      const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated) {
   const auto nv = static_cast<long>(positions.size());
@@ -101,7 +118,10 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     Vec3 r = Vec3::Zero();
     Vec3 wsum = Vec3::Zero();
     double w = 0.0;
-    for (const int* j = neighbours.begin(i); j != neighbours.end(i); ++j) {
+    thread_local std::vector<int> row;  // this vertex's neighbours, unpacked (grown once per thread)
+    if (row.size() < static_cast<std::size_t>(neighbours.max_row())) row.resize(static_cast<std::size_t>(neighbours.max_row()));
+    const int count = neighbours.unpack(static_cast<std::size_t>(i), static_cast<int>(i), row.data());
+    for (const int* j = row.data(); j != row.data() + count; ++j) {
       const double wij = (positions[*j] - vi).squaredNorm();
       wsum += wij * positions[*j];
       w += wij;

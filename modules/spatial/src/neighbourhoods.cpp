@@ -10,17 +10,19 @@
 
 namespace scanmesh {
 
-Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
-                                bool spatially_ordered) {
+namespace {
+
+// The rows of radius_neighbourhoods, searched in blocks and handed to `take(first_row, rows, count)` one
+// block at a time: FLANN returns a row as a vector of 8-byte indices and one of 8-byte distances, which for
+// a whole mesh at once took more memory than everything else the denoiser holds, so each block is turned
+// into the caller's compact rows before the next is searched.
+template <class Take>
+void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
+                 bool spatially_ordered, Take take) {
   const std::size_t n = points.size();
   detail::PointTree tree(points, !spatially_ordered);
   const double r2 = radius * radius;
-  Adjacency a;
-  a.offsets.assign(n + 1, 0);
   std::size_t cut = 0;
-  // Queries go in blocks: FLANN returns a row as a vector of 8-byte indices and one of 8-byte distances,
-  // which for a whole mesh at once took more memory than everything else the denoiser holds. Each block
-  // is turned into the final 4-byte rows before the next is searched.
   constexpr std::size_t kBlock = std::size_t{1} << 15;
   std::vector<std::vector<std::size_t>> found;
   std::vector<std::vector<double>> dist;
@@ -51,13 +53,46 @@ Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, 
       row.resize(kept);
       std::sort(row.begin(), row.end());
     }
-    for (std::size_t r = 0; r < count; ++r) a.offsets[start + r + 1] = a.offsets[start + r] + static_cast<int>(found[r].size());
-    // Room for every row, guessed from the first block's mean size (the vector still grows if short).
-    if (start == 0) a.indices.reserve(static_cast<std::size_t>(1.05 * static_cast<double>(a.offsets[count]) / static_cast<double>(count) * static_cast<double>(n)) + 16);
-    for (std::size_t r = 0; r < count; ++r)
-      for (std::size_t j : found[r]) a.indices.push_back(static_cast<int>(j));
+    take(start, found, count);
   }
   if (capped != nullptr) *capped = cut;
+}
+
+}  // namespace
+
+Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
+                                bool spatially_ordered) {
+  const std::size_t n = points.size();
+  Adjacency a;
+  a.offsets.assign(n + 1, 0);
+  radius_rows(points, radius, max_neighbours, capped, spatially_ordered,
+              [&](std::size_t start, const std::vector<std::vector<std::size_t>>& found, std::size_t count) {
+                for (std::size_t r = 0; r < count; ++r)
+                  a.offsets[start + r + 1] = a.offsets[start + r] + static_cast<int>(found[r].size());
+                // Room for every row, guessed from the first block's mean size (the vector still grows if short).
+                if (start == 0)
+                  a.indices.reserve(static_cast<std::size_t>(1.05 * static_cast<double>(a.offsets[count]) / static_cast<double>(count) *
+                                                             static_cast<double>(n)) + 16);
+                for (std::size_t r = 0; r < count; ++r)
+                  for (std::size_t j : found[r]) a.indices.push_back(static_cast<int>(j));
+              });
+  return a;
+}
+
+PackedRows packed_radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours,
+                                        std::size_t* capped, bool spatially_ordered) {
+  PackedRows a;
+  std::vector<int> row;
+  radius_rows(points, radius, max_neighbours, capped, spatially_ordered,
+              [&](std::size_t start, const std::vector<std::vector<std::size_t>>& found, std::size_t count) {
+                for (std::size_t r = 0; r < count; ++r) {
+                  row.assign(found[r].begin(), found[r].end());
+                  a.append(static_cast<int>(start + r), row.data(), row.data() + row.size());
+                }
+                if (start == 0)  // room for every row, guessed from the first block (still grows if short)
+                  a.reserve(points.size(), static_cast<std::size_t>(1.05 * static_cast<double>(a.units()) / static_cast<double>(count) *
+                                                                    static_cast<double>(points.size())) + 16);
+              });
   return a;
 }
 

@@ -32,6 +32,8 @@ double mean_edge_length(const Mesh& mesh, const Topology& topology);
 
 /// Area-weighted vertex normals from the given face normals (zero for isolated vertices).
 std::vector<Vec3> vertex_normals(const Topology& topology, const FaceGeometry& geometry);
+/// The same for one vertex (the same bits as vertex_normals()[v]), without a table for all of them.
+Vec3 vertex_normal(const Topology& topology, const FaceGeometry& geometry, std::size_t v);
 
 /// Axis-aligned bounding-box diagonal length of the positions (0 if fewer than two points).
 double bbox_diagonal(const std::vector<Vec3>& positions);

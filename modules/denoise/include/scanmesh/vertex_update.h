@@ -8,6 +8,7 @@
 #include "scanmesh/boundary_curves.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/geometry.h"
+#include "scanmesh/packed_rows.h"
 #include "scanmesh/topology.h"
 
 namespace scanmesh {
@@ -15,14 +16,16 @@ namespace scanmesh {
 /// The neighbours each vertex's fidelity term R_i averages over: vertex_vertices, but only through edges
 /// of at least one non-degenerate face (area above 1e-12 x longest edge^2). A zero-area sliver joining two
 /// far vertices would otherwise pull both across the object (the weights grow with |v_i - v_j|^2).
-Adjacency fidelity_neighbours(const Mesh& mesh, const Topology& topology);
+/// When every edge qualifies (most meshes) the result is topology.vertex_vertices itself, moved out rather
+/// than copied (topology.vertex_vertices is then left with no rows).
+Adjacency fidelity_neighbours(const Mesh& mesh, Topology& topology);
 
 /// One vertex-update step from `positions` into `updated`; R_i averages over `neighbours`
-/// (fidelity_neighbours). With `boundary` non-null, boundary vertices
+/// (fidelity_neighbours, packed with each row anchored at its vertex). With `boundary` non-null, boundary vertices
 /// only even out their edges along the boundary (their denoising is smooth_boundary_curves's job).
 /// With `feature_aware`, the fidelity term R_i acts only along sharp edges (not across them) and not at
 /// corners, judged from the normal tensor of the filtered normals around the vertex.
-void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const Adjacency& neighbours,
+void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const PackedRows& neighbours,
                      const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
                      const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated);
 

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "scanmesh/mesh.h"
+#include "scanmesh/packed_rows.h"
 #include "scanmesh/point_cloud.h"
 #include "scanmesh/topology.h"
 
@@ -16,6 +17,11 @@ namespace scanmesh {
 /// k-d tree reads `points` in place instead of keeping a reordered copy: 24 bytes per point less, as fast.
 Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours = 0,
                                 std::size_t* capped = nullptr, bool spatially_ordered = false);
+
+/// The same rows as radius_neighbourhoods, packed (each row anchored at its own index): half the memory
+/// when `points` are in a spatial order.
+PackedRows packed_radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours = 0,
+                                        std::size_t* capped = nullptr, bool spatially_ordered = false);
 
 /// For every point, its k nearest other points, nearest first (fewer if the cloud is smaller).
 /// Exact; parallel; independent of the thread count.
