@@ -185,3 +185,29 @@ TEST(FillHoles, OneThreadAndFourGiveTheSameMesh) {
   EXPECT_EQ(one.faces, four.faces);
   EXPECT_NEAR(total_area(one), 3600.0, 1e-6);
 }
+
+TEST(FillHoles, ALoopWhoseDiagonalsAreTakenGetsAFan) {
+  // The square a b c d is open, but the mesh joins a-c and b-d elsewhere (two faces below it): every
+  // triangulation of the loop would repeat one of those edges. It is closed by four faces around a new
+  // vertex at its centre instead, manifold and oriented like the faces around it.
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},                 // a b c d
+                 {0.5, -1, 0}, {2, 0.5, 0}, {0.5, 2, 0}, {-1, 0.5, 0},       // one face outside each side
+                 {0.5, 0.5, -1}, {0.5, 0.5, -2}};                            // below: on a-c and on b-d
+  m.faces = {{1, 0, 4}, {2, 1, 5}, {3, 2, 6}, {0, 3, 7}, {0, 2, 8}, {1, 3, 9}};
+  Mesh filled = m;
+  const std::vector<FilledHole> h = fill_holes(filled, {{0, 1, 2, 3}});
+  ASSERT_EQ(h.size(), 1u);
+  ASSERT_TRUE(h[0].filled);
+  EXPECT_EQ(h[0].vertices, 1u);
+  EXPECT_EQ(h[0].faces, 4u);
+  EXPECT_LT((filled.positions[h[0].first_vertex] - Vec3(0.5, 0.5, 0)).norm(), 1e-12);
+  const TopologyStats before = topology_stats(m), after = topology_stats(filled);
+  EXPECT_EQ(after.nonmanifold_edges, 0u);
+  EXPECT_EQ(after.inconsistent_edges, before.inconsistent_edges);
+  for (std::size_t f = h[0].first_face; f < filled.num_faces(); ++f) {  // flat, facing +z like a b c d's neighbours
+    const Face& t = filled.faces[f];
+    const Vec3 n = (filled.positions[t[1]] - filled.positions[t[0]]).cross(filled.positions[t[2]] - filled.positions[t[0]]);
+    EXPECT_GT(n.z(), 0.0);
+  }
+}

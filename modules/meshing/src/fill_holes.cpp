@@ -270,7 +270,7 @@ void refine(const Mesh& mesh, Patch& patch, double target, const LoopNeighbourho
   }
 }
 
-// Triangulates and refines one loop into `patch`; false if the loop has no valid triangulation.
+// Triangulates and refines one loop into `patch`; false only for fewer than three vertices.
 bool make_patch(const Mesh& mesh, const std::vector<int>& ring, const LoopNeighbourhood& around, Patch& patch) {
   patch = Patch{};
   const std::size_t n = ring.size();
@@ -285,8 +285,17 @@ bool make_patch(const Mesh& mesh, const std::vector<int>& ring, const LoopNeighb
     outer[k] = c >= 0 ? triangle_normal(mesh.positions[b], mesh.positions[a], mesh.positions[c]) : Vec3(Vec3::Zero());
   }
   const auto tris = triangulate_ring(ring, p, outer, around);
-  if (tris.empty()) return false;
-  for (const auto& t : tris) patch.faces.push_back({ring[t[0]], ring[t[1]], ring[t[2]]});
+  if (!tris.empty()) {
+    for (const auto& t : tris) patch.faces.push_back({ring[t[0]], ring[t[1]], ring[t[2]]});
+  } else {
+    // Every triangulation needs a diagonal the mesh already has (the loop's vertices are joined around
+    // the other side): a fan around a new vertex at the loop's centroid needs none.
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& q : p) centre += q;
+    patch.new_positions.push_back(centre / static_cast<double>(n));
+    patch.parents.emplace_back(ring[0], ring[n / 2]);  // its properties: the mean of two opposite loop vertices
+    for (std::size_t k = 0; k < n; ++k) patch.faces.push_back({ring[k], ring[(k + 1) % n], -1});
+  }
   refine(mesh, patch, perimeter / static_cast<double>(n), around);
   return true;
 }

@@ -11,7 +11,7 @@ namespace scanmesh {
 
 /// What one loop became.
 struct FilledHole {
-  bool filled = false;             ///< false: no valid triangulation (see `fill_holes`), or too many vertices
+  bool filled = false;             ///< false: too many vertices, or beyond the work budget (see `fill_holes`)
   std::size_t first_face = 0;      ///< the patch's faces are mesh.faces[first_face, first_face + faces)
   std::size_t faces = 0;
   std::size_t first_vertex = 0;    ///< its new vertices are positions[first_vertex, first_vertex + vertices)
@@ -24,8 +24,8 @@ constexpr std::size_t kMaxFillLoopVertices = 400;
 /// Fills every loop of `loops`: each a ring of vertex indices in the order closed_boundary_loops walks them
 /// (against the orientation of the faces on its edges, so the patch continues that orientation). A patch
 /// never adds an edge the mesh or an earlier patch already has (a loop whose vertices are joined
-/// elsewhere gets a triangulation around that, or none); a loop that passes a vertex twice is closed as
-/// its simple parts. New vertices are appended, their extra vertex
+/// elsewhere gets a triangulation around that or, where every one would need such an edge, a fan around a
+/// new vertex at the loop's centroid); a loop that passes a vertex twice is closed as its simple parts. New vertices are appended, their extra vertex
 /// properties interpolated; existing vertices and faces are not changed. The triangulation costs a loop's
 /// length cubed, so loops are taken shortest first within a work budget that grows with the mesh (a mesh
 /// of many long loops stays near-linear); the rest stay open. Deterministic, whatever the thread count.
