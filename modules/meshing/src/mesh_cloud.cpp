@@ -9,6 +9,7 @@
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/fill_holes.h"
+#include "scanmesh/heartbeat.h"
 #include "scanmesh/neighbourhoods.h"
 
 namespace scanmesh {
@@ -43,6 +44,8 @@ std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
 // The virtual scans (4 views) of train/'s models: closed ones 0.02-0.09, open sheets and the beetle's
 // shell 0.78-0.85; real clouds reaching this step (hippo1) 0.
 constexpr double kOpposedShare = 0.3;
+// How often a PCL step that reports nothing itself says it is still running, seconds.
+constexpr double kHeartbeatSeconds = 30.0;
 
 // Share of the points with a neighbour within 1.5 spacings whose normal points the other way
 // (n_i . n_j < -0.5): a sheet seen from both sides, each view's normals facing its own sensor, or parts
@@ -124,6 +127,12 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   if (m != MeshMethod::automatic) {
     d.method = m;
     d.reason = std::string("method ") + method_name(m) + " as configured";
+    const Heartbeat beat(kHeartbeatSeconds, [&note, m](double seconds) {
+      if (!note) return;
+      char b[96];
+      std::snprintf(b, sizeof b, "%s: still running (%.0f s)", method_name(m), seconds);
+      note(b);
+    });
     switch (m) {
       case MeshMethod::organized: return triangulate_organized(cloud, organized, scale);
       case MeshMethod::poisson: return triangulate_poisson(cloud, poisson, scale);
@@ -143,7 +152,15 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     note(line + b);
   };
   say("greedy projection of " + std::to_string(points.size()) + " points");
-  Mesh g = triangulate_gp3(cloud, gp3, scale);
+  // PCL's greedy projection and Poisson report nothing while they run (minutes on large clouds).
+  auto still_running = [&](const char* step) {
+    return [&say, step](double) { say(std::string(step) + ": still running"); };
+  };
+  Mesh g;
+  {
+    const Heartbeat beat(kHeartbeatSeconds, still_running("greedy projection"));
+    g = triangulate_gp3(cloud, gp3, scale);
+  }
   clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
   ScanFit gf = measure_scan_fit(g, points, scale.spacing);
   say("greedy projection: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
@@ -185,7 +202,10 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   auto poisson_of = [&](const PointCloud& c) {
     Mesh out;
     try {
-      out = triangulate_poisson(c, chosen, scale);
+      {
+        const Heartbeat beat(kHeartbeatSeconds, still_running("screened Poisson"));
+        out = triangulate_poisson(c, chosen, scale);
+      }
       clean_mesh(out, CleanupOptions{}, cloud.sensor_origin);
     } catch (const InputError&) {
       out = Mesh{};
