@@ -5,6 +5,7 @@
 //   writes OUT_DIR/dragon-L<k>.ply for k = 0..N (202k, 809k, 3.2M faces, ...)
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <unordered_map>
@@ -41,7 +42,7 @@ Mesh split_edges(const Mesh& m) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   fs::path data = "../shared/data", out = fs::temp_directory_path();
   int levels = 2, positional = 0;
   for (int i = 1; i < argc; ++i) {
@@ -66,4 +67,13 @@ int main(int argc, char** argv) {
     std::printf("%s: %zu vertices, %zu faces\n", file.c_str(), noisy.positions.size(), noisy.faces.size());
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
 }
