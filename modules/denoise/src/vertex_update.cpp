@@ -118,14 +118,11 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     Vec3 r = Vec3::Zero();
     Vec3 wsum = Vec3::Zero();
     double w = 0.0;
-    thread_local std::vector<int> row;  // this vertex's neighbours, unpacked (grown once per thread)
-    if (row.size() < static_cast<std::size_t>(neighbours.max_row())) row.resize(static_cast<std::size_t>(neighbours.max_row()));
-    const int count = neighbours.unpack(static_cast<std::size_t>(i), static_cast<int>(i), row.data());
-    for (const int* j = row.data(); j != row.data() + count; ++j) {
-      const double wij = (positions[*j] - vi).squaredNorm();
-      wsum += wij * positions[*j];
+    neighbours.for_each(static_cast<std::size_t>(i), static_cast<int>(i), [&](int j) {
+      const double wij = (positions[j] - vi).squaredNorm();
+      wsum += wij * positions[j];
       w += wij;
-    }
+    });
     if (w > 0.0) {
       const Vec3 d = wsum / w - vi;
       r = d + (d - d.dot(vertex_normal) * vertex_normal);

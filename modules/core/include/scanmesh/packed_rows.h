@@ -31,18 +31,23 @@ class PackedRows {
   [[nodiscard]] int max_row() const { return max_row_; }
   [[nodiscard]] std::size_t bytes() const { return starts_.size() * sizeof(std::uint32_t) + units_.size() * sizeof(std::uint16_t); }
 
-  /// Writes row i (read with the anchor it was appended with) to `out`, which holds max_row() ints;
-  /// returns its length.
-  int unpack(std::size_t i, int anchor, int* out) const {
+  /// Calls f(index) for each index of row i (read with the anchor it was appended with), in order.
+  template <class F>
+  void for_each(std::size_t i, int anchor, F&& f) const {
     const std::uint32_t begin = starts_[i] & kOffset, end = starts_[i + 1] & kOffset;
     const std::uint16_t* u = units_.data() + begin;
     if ((starts_[i] & kWhole) == 0) {
-      const int n = static_cast<int>(end - begin);
-      for (int k = 0; k < n; ++k) out[k] = anchor + static_cast<std::int16_t>(u[k]);
-      return n;
+      for (std::uint32_t k = 0; k < end - begin; ++k) f(anchor + static_cast<std::int16_t>(u[k]));
+      return;
     }
-    const int n = static_cast<int>((end - begin) / 2);
-    for (int k = 0; k < n; ++k) out[k] = static_cast<int>(u[2 * k] | static_cast<std::uint32_t>(u[2 * k + 1]) << 16);
+    for (std::uint32_t k = 0; k < end - begin; k += 2) f(static_cast<int>(u[k] | static_cast<std::uint32_t>(u[k + 1]) << 16));
+  }
+
+  /// Writes row i (read with the anchor it was appended with) to `out`, which holds max_row() ints;
+  /// returns its length.
+  int unpack(std::size_t i, int anchor, int* out) const {
+    int n = 0;
+    for_each(i, anchor, [out, &n](int j) { out[n++] = j; });
     return n;
   }
 
