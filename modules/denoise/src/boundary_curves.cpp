@@ -126,118 +126,129 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
   // reaches past a corner, and corners themselves are left to update_vertices.
   const auto loops = static_cast<long>(curves.loop_edges.rows());
   std::vector<std::vector<Vec3>> result(curves.loop_edges.rows());
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long l = 0; l < loops; ++l) {
-    const int* edges = curves.loop_edges.begin(l);
-    const int ne = curves.loop_edges.size(l);
-    const bool closed = curves.loop_closed[l] != 0;
-    const int nv = closed ? ne : ne + 1;
-    if (ne < 3 || curves.ragged[curves.edges[edges[0]].a]) continue;
-    std::vector<int> v(nv);
-    for (int k = 0; k < ne; ++k) {
-      v[k] = curves.edges[edges[k]].a;
-      if (!closed && k == ne - 1) v[k + 1] = curves.edges[edges[k]].b;
-    }
-    std::vector<double> seg(ne);
-    double total = 0.0;
-    for (int k = 0; k < ne; ++k) total += seg[k] = (positions[v[(k + 1) % nv]] - positions[v[k]]).norm();
-    const double sigma = window * total / ne;
-    // The fit is linear in the positions: fitted_i = sum_j c_ij p_j over the window (c from the weighted
-    // least-squares solve). Applied once it rounds a curve slightly (a circle loses ~ sigma^4 / R^3 per
-    // pass, which adds up over a hundred iterations); "twicing", F(p) + F(p - F(p)), removes that bias to
-    // second order while smoothing noise the same.
-    struct Row {
-      std::vector<int> j;
-      std::vector<double> c;
-    };
-    std::vector<Row> rows(nv);
-    std::vector<int> js;  // per vertex, reused
+#pragma omp parallel
+  {
+    // Per thread, reused by every loop it takes (this runs in every iteration: nothing per vertex is
+    // allocated). Row i of the fit is row_j/row_c[row_start[i] .. row_start[i + 1]).
+    std::vector<int> v, row_start, row_j, js;
+    std::vector<double> seg, row_c, ws;
     std::vector<Eigen::Vector3d> bases;
-    std::vector<double> ws;
-    for (int i = 0; i < nv; ++i) {
-      if (curves.corner[v[i]] || !(sigma > 0.0)) continue;
-      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-      js.clear();
-      bases.clear();
-      ws.clear();
-      auto add = [&](int j, double s) {
-        const double w = std::exp(-s * s / (2.0 * sigma * sigma));
-        const double u = s / sigma;  // scaled for conditioning
-        const Eigen::Vector3d basis(1.0, u, u * u);
-        a += w * basis * basis.transpose();
-        js.push_back(j);
-        bases.push_back(basis);
-        ws.push_back(w);
-      };
-      add(i, 0.0);
-      for (int dir : {1, -1}) {
-        double s = 0.0;
-        int j = i;
-        for (int step = 1; step < nv / 2 && step <= kBoundaryWindowMaxEdges; ++step) {
-          const int next = j + dir;
-          if (!closed && (next < 0 || next >= nv)) break;
-          const int jn = (next + nv) % nv;
-          s += seg[dir > 0 ? j : jn];
-          if (s > 3.0 * sigma) break;
-          j = jn;
-          add(j, dir * s);
-          if (curves.corner[v[j]]) break;  // a corner ends the stretch the fit may use
-        }
+    std::vector<Vec3> x, once, residual, correction;
+#pragma omp for schedule(dynamic, 1)
+    for (long l = 0; l < loops; ++l) {
+      const int* edges = curves.loop_edges.begin(l);
+      const int ne = curves.loop_edges.size(l);
+      const bool closed = curves.loop_closed[l] != 0;
+      const int nv = closed ? ne : ne + 1;
+      if (ne < 3 || curves.ragged[curves.edges[edges[0]].a]) continue;
+      v.resize(nv);
+      for (int k = 0; k < ne; ++k) {
+        v[k] = curves.edges[edges[k]].a;
+        if (!closed && k == ne - 1) v[k + 1] = curves.edges[edges[k]].b;
       }
-      // Needs support on both sides to be a fit rather than an extrapolation.
-      if (std::abs(a(0, 1)) > 0.5 * a(0, 0) || a(0, 0) < 2.0) continue;
-      Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
-      const Eigen::Vector3d e0 = ldlt.solve(Eigen::Vector3d::UnitX());  // (B^T W B)^-1 e0, A symmetric
-      if (ldlt.info() != Eigen::Success || !e0.allFinite()) continue;
-      Row& row = rows[i];
-      row.j.reserve(js.size());
-      row.c.reserve(js.size());
-      for (std::size_t k = 0; k < js.size(); ++k) {
-        row.j.push_back(js[k]);
-        row.c.push_back(ws[k] * e0.dot(bases[k]));
-      }
-    }
-    auto apply = [&](const std::vector<Vec3>& x, std::vector<Vec3>& y) {
-      y = x;
+      seg.resize(ne);
+      double total = 0.0;
+      for (int k = 0; k < ne; ++k) total += seg[k] = (positions[v[(k + 1) % nv]] - positions[v[k]]).norm();
+      const double sigma = window * total / ne;
+      // The fit is linear in the positions: fitted_i = sum_j c_ij p_j over the window (c from the weighted
+      // least-squares solve). Applied once it rounds a curve slightly (a circle loses ~ sigma^4 / R^3 per
+      // pass, which adds up over a hundred iterations); "twicing", F(p) + F(p - F(p)), removes that bias to
+      // second order while smoothing noise the same.
+      row_start.assign(1, 0);
+      row_j.clear();
+      row_c.clear();
       for (int i = 0; i < nv; ++i) {
-        if (rows[i].j.empty()) continue;
-        Vec3 sum = Vec3::Zero();
-        for (std::size_t k = 0; k < rows[i].j.size(); ++k) sum += rows[i].c[k] * x[rows[i].j[k]];
-        y[i] = sum;
-      }
-    };
-    std::vector<Vec3> x(nv), once, residual(nv), correction;
-    for (int i = 0; i < nv; ++i) x[i] = positions[v[i]];
-    apply(x, once);
-    for (int i = 0; i < nv; ++i) residual[i] = x[i] - once[i];
-    apply(residual, correction);
-    auto& out = result[l];
-    out.resize(nv);
-    for (int i = 0; i < nv; ++i) {
-      out[i] = positions[v[i]];
-      if (rows[i].j.empty()) continue;
-      const Vec3 fitted = once[i] + correction[i];
-      if (!fitted.allFinite()) continue;
-      // Move towards the fit, but shorten a move that would squash or fold one of the vertex's triangles
-      // (straightening a jagged scan boundary would otherwise flatten the triangles behind it).
-      const Vec3 start = positions[v[i]];
-      Vec3 move = fitted - start;
-      for (int attempt = 0; attempt < 4; ++attempt, move *= 0.5) {
-        bool ok = true;
-        for (const int* f = topology.vertex_faces.begin(v[i]); ok && f != topology.vertex_faces.end(v[i]); ++f) {
-          const Face& t = faces[*f];
-          Vec3 p[3];
-          for (int k = 0; k < 3; ++k) p[k] = t[k] == v[i] ? Vec3(start + move) : positions[t[k]];
-          const Vec3 before = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
-          const Vec3 after = (p[1] - p[0]).cross(p[2] - p[0]);
-          // The triangle may turn by less than 45 degrees, and its shape (circumradius / shortest edge)
-          // must stay below 1.5 or not get worse.
-          ok = after.dot(before) >= std::cos(0.7853981633974483) * after.norm() * before.norm() &&
-               triangle_shape(p[0], p[1], p[2]) <= std::max(1.5, triangle_shape(positions[t[0]], positions[t[1]], positions[t[2]]));
+        auto end_row = [&] { row_start.push_back(static_cast<int>(row_j.size())); };
+        if (curves.corner[v[i]] || !(sigma > 0.0)) {
+          end_row();
+          continue;
         }
-        if (ok) {
-          out[i] = start + move;
-          break;
+        Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+        js.clear();
+        bases.clear();
+        ws.clear();
+        auto add = [&](int j, double s) {
+          const double w = std::exp(-s * s / (2.0 * sigma * sigma));
+          const double u = s / sigma;  // scaled for conditioning
+          const Eigen::Vector3d basis(1.0, u, u * u);
+          a += w * basis * basis.transpose();
+          js.push_back(j);
+          bases.push_back(basis);
+          ws.push_back(w);
+        };
+        add(i, 0.0);
+        for (int dir : {1, -1}) {
+          double s = 0.0;
+          int j = i;
+          for (int step = 1; step < nv / 2 && step <= kBoundaryWindowMaxEdges; ++step) {
+            const int next = j + dir;
+            if (!closed && (next < 0 || next >= nv)) break;
+            const int jn = (next + nv) % nv;
+            s += seg[dir > 0 ? j : jn];
+            if (s > 3.0 * sigma) break;
+            j = jn;
+            add(j, dir * s);
+            if (curves.corner[v[j]]) break;  // a corner ends the stretch the fit may use
+          }
+        }
+        // Needs support on both sides to be a fit rather than an extrapolation.
+        if (std::abs(a(0, 1)) > 0.5 * a(0, 0) || a(0, 0) < 2.0) {
+          end_row();
+          continue;
+        }
+        Eigen::LDLT<Eigen::Matrix3d> ldlt(a);
+        const Eigen::Vector3d e0 = ldlt.solve(Eigen::Vector3d::UnitX());  // (B^T W B)^-1 e0, A symmetric
+        if (ldlt.info() == Eigen::Success && e0.allFinite())
+          for (std::size_t k = 0; k < js.size(); ++k) {
+            row_j.push_back(js[k]);
+            row_c.push_back(ws[k] * e0.dot(bases[k]));
+          }
+        end_row();
+      }
+      auto fitted_row = [&](int i) { return row_start[i + 1] > row_start[i]; };
+      auto apply = [&](const std::vector<Vec3>& in, std::vector<Vec3>& y) {
+        y = in;
+        for (int i = 0; i < nv; ++i) {
+          if (!fitted_row(i)) continue;
+          Vec3 sum = Vec3::Zero();
+          for (int k = row_start[i]; k < row_start[i + 1]; ++k) sum += row_c[k] * in[row_j[k]];
+          y[i] = sum;
+        }
+      };
+      x.resize(nv);
+      residual.resize(nv);
+      for (int i = 0; i < nv; ++i) x[i] = positions[v[i]];
+      apply(x, once);
+      for (int i = 0; i < nv; ++i) residual[i] = x[i] - once[i];
+      apply(residual, correction);
+      auto& out = result[l];
+      out.resize(nv);
+      for (int i = 0; i < nv; ++i) {
+        out[i] = positions[v[i]];
+        if (!fitted_row(i)) continue;
+        const Vec3 fitted = once[i] + correction[i];
+        if (!fitted.allFinite()) continue;
+        // Move towards the fit, but shorten a move that would squash or fold one of the vertex's triangles
+        // (straightening a jagged scan boundary would otherwise flatten the triangles behind it).
+        const Vec3 start = positions[v[i]];
+        Vec3 move = fitted - start;
+        for (int attempt = 0; attempt < 4; ++attempt, move *= 0.5) {
+          bool ok = true;
+          for (const int* f = topology.vertex_faces.begin(v[i]); ok && f != topology.vertex_faces.end(v[i]); ++f) {
+            const Face& t = faces[*f];
+            Vec3 p[3];
+            for (int k = 0; k < 3; ++k) p[k] = t[k] == v[i] ? Vec3(start + move) : positions[t[k]];
+            const Vec3 before = (positions[t[1]] - positions[t[0]]).cross(positions[t[2]] - positions[t[0]]);
+            const Vec3 after = (p[1] - p[0]).cross(p[2] - p[0]);
+            // The triangle may turn by less than 45 degrees, and its shape (circumradius / shortest edge)
+            // must stay below 1.5 or not get worse.
+            ok = after.dot(before) >= std::cos(0.7853981633974483) * after.norm() * before.norm() &&
+                 triangle_shape(p[0], p[1], p[2]) <= std::max(1.5, triangle_shape(positions[t[0]], positions[t[1]], positions[t[2]]));
+          }
+          if (ok) {
+            out[i] = start + move;
+            break;
+          }
         }
       }
     }
