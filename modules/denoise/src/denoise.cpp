@@ -169,6 +169,10 @@ struct DenoiseCache::State {
   int max_size = 0;
   PackedRows neighbourhoods;
   std::size_t capped = 0;
+  // The input's connectivity in spatial order (it does not depend on the scale or the options), left by
+  // prefiltered_normals() for the next run, which takes it (a run trims what it holds, so it is not
+  // kept for later runs: holding a copy would add ~80 bytes per face to --auto's peak).
+  std::unique_ptr<Topology> topology;
 };
 
 DenoiseCache::DenoiseCache() = default;
@@ -220,6 +224,14 @@ const PackedRows& input_neighbourhoods(DenoiseCache::State* cached, const Topolo
   return out;
 }
 
+// `mesh`'s topology: the one the cache holds for it, taken out of the cache, or built.
+Topology take_topology(DenoiseCache::State* cached, const Mesh& mesh) {
+  if (cached == nullptr || !cached->topology) return build_topology(mesh);
+  Topology t = std::move(*cached->topology);
+  cached->topology.reset();
+  return t;
+}
+
 // Leaves mesh.positions as they were and sets *nonfinite to a vertex if the result is not finite.
 DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
                                const IterationObserver& observer, long* nonfinite, DenoiseCache::State* cached) {
@@ -239,7 +251,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   } restore{mesh, scale};
   for (auto& p : mesh.positions) p *= scale;
 
-  Topology topology = build_topology(mesh);
+  Topology topology = take_topology(cached, mesh);
   BoundaryCurves curves;
   const bool boundary = options.keep_boundary && topology.num_boundary_edges() > 0;
   if (boundary) curves = build_boundary_curves(mesh, topology);
@@ -415,7 +427,10 @@ std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, do
   Mesh local = in_spatial_order(mesh, order);
   const double scale = unit_scale(local.positions);
   for (auto& p : local.positions) p *= scale;
-  const Topology topology = build_topology(local);
+  Topology own_topology;
+  if (cached != nullptr && !cached->topology) cached->topology = std::make_unique<Topology>(build_topology(local));
+  if (cached == nullptr) own_topology = build_topology(local);
+  const Topology& topology = cached != nullptr ? *cached->topology : own_topology;
   FaceGeometry g;
   compute_face_geometry(local.positions, local.faces, g);
   const double c_a = mean_centroid_distance(local, topology, g);
