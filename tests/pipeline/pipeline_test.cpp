@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <mutex>
 
 #include "helpers.h"
 #include "scanmesh/add_noise.h"
@@ -238,4 +239,41 @@ TEST_F(PipelineTest, AMeshThatLeavesItsScanOutIsDegradedNotOk) {
   write("good.xyz", patch);
   const std::string good = "pipeline:\n  - " + path("good.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n  - " + path("good.ply") + "\n";
   EXPECT_EQ(Pipeline::load(write("g.yaml", good), {}).run().status, "ok");
+}
+
+// A stage without progress lines of its own says it is still running while it runs; stages with their
+// own progress (meshing, denoising) stay quiet; heartbeat_seconds = 0 turns it off.
+TEST_F(PipelineTest, LongStagesWithoutProgressSayTheyAreStillRunning) {
+  std::string xyz;
+  for (int j = 0; j < 120; ++j)
+    for (int i = 0; i < 120; ++i)
+      xyz += std::to_string(i * 0.01) + " " + std::to_string(j * 0.01) + " " + std::to_string(0.02 * std::sin(0.1 * i + 0.2 * j)) + "\n";
+  write("c.xyz", xyz);
+  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.denoise\n    iterations: 20\n  - " +
+                           path("out.ply") + "\n";
+  auto lines_of = [&](double period) {
+    std::mutex m;
+    std::vector<std::string> lines;
+    PipelineOptions o;
+    o.heartbeat_seconds = period;
+    o.log = [&](const std::string& line) {
+      const std::lock_guard<std::mutex> lock(m);
+      lines.push_back(line);
+    };
+    Pipeline::load(write("p.yaml", yaml), o).run();
+    std::vector<std::string> still;
+    for (const auto& l : lines)
+      if (l.find("still running") != std::string::npos) still.push_back(l);
+    return still;
+  };
+  const std::vector<std::string> still = lines_of(0.0005);  // 14,400 normals take far longer than this
+  ASSERT_FALSE(still.empty());
+  bool normals = false;
+  for (const auto& l : still) {
+    normals = normals || l.rfind("cloud.normals: still running (", 0) == 0;
+    EXPECT_EQ(l.find("mesh.denoise"), std::string::npos) << l;
+    EXPECT_EQ(l.find("mesh.auto"), std::string::npos) << l;
+  }
+  EXPECT_TRUE(normals);
+  EXPECT_TRUE(lines_of(0.0).empty());
 }

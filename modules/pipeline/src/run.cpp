@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "pipeline_impl.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/heartbeat.h"
 #include "scanmesh/parallel.h"
 #include "scanmesh/report.h"
 #include "scanmesh/scan_fit.h"
@@ -52,6 +54,14 @@ PipelineResult Pipeline::run() {
       if (s.inputs.size() == 1) data = tagged.at(s.inputs.front());
       const auto ts = std::chrono::steady_clock::now();
       try {
+        std::optional<Heartbeat> beat;
+        const auto& o = impl_->options;
+        if (o.log && o.heartbeat_seconds > 0.0 && !s.stage->reports_progress())
+          beat.emplace(o.heartbeat_seconds, [&o, type = s.where.type](double seconds) {
+            char line[160];
+            std::snprintf(line, sizeof line, "%s: still running (%.0f s)", type.c_str(), seconds);
+            o.log(line);
+          });
         if (s.stage->takes_many_inputs()) {
           std::vector<const Data*> ins;
           for (const auto& t : s.inputs) ins.push_back(&tagged.at(t));

@@ -63,6 +63,9 @@ struct Stage {
   /// Stages that combine several earlier results (cloud.merge, cloud.register) take them all here, in the
   /// order `inputs` lists them, and write the combination to `out`.
   [[nodiscard]] virtual bool takes_many_inputs() const { return false; }
+  /// True for stages that report their own progress while they run (the pipeline's heartbeat then stays
+  /// quiet for them).
+  [[nodiscard]] virtual bool reports_progress() const { return false; }
   virtual void run_many(const std::vector<const Data*>& /*inputs*/, Data& /*out*/, RunContext& /*ctx*/) {}
   /// Files this stage reads or writes (checked at loading: inputs exist, outputs writable, never an input).
   [[nodiscard]] virtual std::vector<std::string> files_read() const { return {}; }

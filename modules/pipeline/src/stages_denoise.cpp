@@ -19,6 +19,7 @@ void warn_capped(const DenoiseReport& r, const Mesh& m, RunContext& ctx) {
 }
 
 struct DenoiseStage : Stage {
+  [[nodiscard]] bool reports_progress() const override { return true; }
   DenoiseOptions o;
   std::vector<std::string> given;  // explicit values win over `auto`
   void bind(Binder& b) override { bind_options(b, o, &given); }

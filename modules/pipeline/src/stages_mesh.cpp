@@ -9,6 +9,7 @@ namespace {
 // mesh.auto takes the method and every method's options; the named methods are mesh.auto with the
 // method fixed and only their own options.
 struct MeshStage : Stage {
+  [[nodiscard]] bool reports_progress() const override { return true; }
   MeshMethodOptions method;
   Gp3Options gp3;
   OrganizedOptions organized;

@@ -36,6 +36,9 @@ struct PipelineOptions {
   std::function<void(const std::string&, int, int)> progress;
   /// Called with one line per finished stage.
   std::function<void(const std::string&)> log;
+  /// A stage without progress lines of its own (reading, cloud clean-up, normals, mesh clean-up, ...)
+  /// says "TYPE: still running (N s)" through `log` this often while it runs; 0 = never.
+  double heartbeat_seconds = 30.0;
 };
 
 /// One stage given in code (what the command-line verbs build): its type, tag and options as text, each
