@@ -85,7 +85,8 @@ void prefer_runtime_settings(char** argv) {
   for (const char* setting : {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_threshold=1048576"}) {
     const std::string name = std::string(setting).substr(0, std::string(setting).find('='));
     if (value.find(name) != std::string::npos) continue;  // the user's choice stands
-    value += (value.empty() ? "" : ":") + std::string(setting);
+    if (!value.empty()) value += ':';
+    value += setting;
     changed = true;
   }
   if (changed) {
@@ -118,7 +119,8 @@ int options_command(const std::vector<std::string>& args) {
         return out;
       };
       for (const auto& o : opts) {
-        const std::string flag = o.info.name == "filename" ? "(argument)" : "`" + o.info.flag() + "`";
+        std::string flag = "(argument)";
+        if (o.info.name != "filename") flag.assign("`").append(o.info.flag()).append("`");
         std::cout << "| `" << o.info.name << "` / " << flag << " | " << cell(o.info.domain()) << " | " << cell(o.default_value) << " | "
                   << cell(o.info.doc) << " |\n";
       }
