@@ -71,7 +71,7 @@ void unregister_temporary(int slot) {
 fs::path folder_of(const fs::path& target) { return target.has_parent_path() ? target.parent_path() : fs::path("."); }
 
 // ".NAME.tmp.PID." prefix of this process's temporaries for `target`.
-std::string temp_prefix(const fs::path& target) { return "." + target.filename().string() + ".tmp."; }
+std::string temp_prefix(const fs::path& target) { return std::string(".").append(target.filename().string()).append(".tmp."); }
 
 // Removes temporaries for `target` whose writing process no longer exists (a run killed with SIGKILL).
 void remove_stale_temporaries(const fs::path& target) {

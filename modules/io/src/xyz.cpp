@@ -66,7 +66,10 @@ Parsed number(std::string_view t, double& v) {
 std::string role_list(const std::vector<Role>& roles) {
   static const char* names[] = {"x", "y", "z", "nx", "ny", "nz", "r", "g", "b", "_"};
   std::string s;
-  for (std::size_t i = 0; i < roles.size(); ++i) s += (i ? "," : "") + std::string(names[static_cast<int>(roles[i])]);
+  for (std::size_t i = 0; i < roles.size(); ++i) {
+    if (i > 0) s += ',';
+    s += names[static_cast<int>(roles[i])];
+  }
   return s;
 }
 
