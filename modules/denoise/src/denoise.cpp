@@ -427,10 +427,11 @@ std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, do
   Mesh local = in_spatial_order(mesh, order);
   const double scale = unit_scale(local.positions);
   for (auto& p : local.positions) p *= scale;
-  Topology own_topology;
-  if (cached != nullptr && !cached->topology) cached->topology = std::make_unique<Topology>(build_topology(local));
-  if (cached == nullptr) own_topology = build_topology(local);
-  const Topology& topology = cached != nullptr ? *cached->topology : own_topology;
+  // Built into the cache (the next run takes it from there), or kept here without one.
+  std::unique_ptr<Topology> own;
+  std::unique_ptr<Topology>& slot = cached != nullptr ? cached->topology : own;
+  if (!slot) slot = std::make_unique<Topology>(build_topology(local));
+  const Topology& topology = *slot;
   FaceGeometry g;
   compute_face_geometry(local.positions, local.faces, g);
   const double c_a = mean_centroid_distance(local, topology, g);
