@@ -412,7 +412,8 @@ TEST(Denoise, SmallCleanPatchesAreFixedPointsAtAnyScale) {
 
 TEST(Denoise, ResultsDoNotDependOnTheScale) {
   // Coordinates of 1e-150 or 1e80 are denoised like those of the unit box: by a power of two exactly
-  // the same result (the denoiser works at unit scale), by another factor the same up to rounding.
+  // the same result (the denoiser works at unit scale), by another factor the same up to rounding (the
+  // normal filter's single-precision weights turn a last-bit difference into up to ~1e-7 of the size).
   const Mesh clean = test::make_cube(6);
   Mesh noisy = clean;
   NoiseOptions n;
@@ -426,7 +427,7 @@ TEST(Denoise, ResultsDoNotDependOnTheScale) {
     denoise(m, DenoiseOptions{});
     ASSERT_TRUE(all_finite(m)) << scale;
     for (auto& p : m.positions) p /= scale;
-    const double exact = std::log2(scale) == std::floor(std::log2(scale)) ? 0.0 : 1e-9;
+    const double exact = std::log2(scale) == std::floor(std::log2(scale)) ? 0.0 : 1e-7;
     EXPECT_LE(max_displacement(m, unit), exact) << scale;
   }
 }

@@ -63,8 +63,8 @@ TEST(NormalFiltering, ConnectedBallIsASubsetOfTheBall) {
 
 namespace {
 
-// The filter as the paper writes it, one neighbour at a time with std::exp: what the four-lane kernel
-// must agree with.
+// The filter as the paper writes it, in double precision one neighbour at a time with std::exp: what the
+// eight-lane single-precision kernel must agree with to single precision.
 std::vector<Vec3> reference_tukey(const FaceGeometry& g, const Adjacency& nbh, double sigma_c, double sigma_s) {
   std::vector<Vec3> out(g.normals.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
@@ -81,8 +81,8 @@ std::vector<Vec3> reference_tukey(const FaceGeometry& g, const Adjacency& nbh, d
 
 }  // namespace
 
-TEST(NormalFiltering, TheFourLaneKernelMatchesTheFormulaOnEveryInstructionSet) {
-  // A noisy sphere: neighbourhoods of every length mod 4, normals on both sides of the Tukey cut-off.
+TEST(NormalFiltering, TheEightLaneKernelMatchesTheFormulaOnEveryInstructionSet) {
+  // A noisy sphere: neighbourhoods of every length mod 8, normals on both sides of the Tukey cut-off.
   Mesh m = test::make_sphere(4);
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 0.02);  // about 0.3 mean edges
@@ -106,7 +106,7 @@ TEST(NormalFiltering, TheFourLaneKernelMatchesTheFormulaOnEveryInstructionSet) {
     worst = std::max(worst, (best[f] - want[f]).norm());
     differ += best[f] != sse2[f];
   }
-  EXPECT_LT(worst, 1e-12);
+  EXPECT_LT(worst, 1e-6);  // radians; a wrong weight or a dropped lane shows as 1e-3 and more
   EXPECT_EQ(differ, 0u) << "AVX2 and SSE2 must give the same bits";
   // The packed table the denoiser holds gives the same bits, with every estimator.
   const PackedRows packed = packed_face_neighbourhoods(t, g, 4.0 * ca, NeighbourhoodKind::ball, max_neighbourhood_size(4.0));

@@ -305,7 +305,10 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
   auto displacement = [&] { return normal_displacement(topology, geometry, mesh.positions, positions); };
 
-  std::vector<Vec3> filtered;
+  // The face normals are filtered in place: until the geometry is recomputed at the end of the iteration
+  // only the vertex update reads it, and that takes the centroids and areas.
+  std::vector<Vec3>& filtered = geometry.normals;
+  FilterWork work;
   double lambda = options.lambda;
   report.stop_reason = "iterations";
   for (int it = 0; it < options.iterations; ++it) {
@@ -318,7 +321,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
       report.seconds_neighbourhoods += seconds_since(t0);
     }
     t0 = std::chrono::steady_clock::now();
-    filter_face_normals(geometry, *neighbourhoods, c_a, options.sigma_s, options.estimator, filtered);
+    filter_face_normals(geometry, *neighbourhoods, c_a, options.sigma_s, options.estimator, filtered, nullptr, &work);
     if (boundary)
       filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.boundary_window);
     report.seconds_filtering += seconds_since(t0);
@@ -440,11 +443,8 @@ std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, do
     PackedRows own_neighbourhoods;
     const PackedRows& nbh = input_neighbourhoods(cached, topology, g, radius_factor * c_a, NeighbourhoodKind::ball,
                                                 max_neighbourhood_size(radius_factor), &capped, own_neighbourhoods);
-    std::vector<Vec3> filtered;
-    for (int pass = 0; pass < passes; ++pass) {
-      filter_face_normals(g, nbh, c_a, sigma_s, RobustEstimator::tukey, filtered);
-      g.normals.swap(filtered);
-    }
+    FilterWork work;
+    for (int pass = 0; pass < passes; ++pass) filter_face_normals(g, nbh, c_a, sigma_s, RobustEstimator::tukey, g.normals, nullptr, &work);
   }
   std::vector<Vec3> out(g.normals.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[order.faces[i]] = g.normals[i];

@@ -14,18 +14,29 @@ namespace scanmesh {
 /// Robust similarity weight g(x, sigma_s) for x = |n_i - n_j|.
 double robust_weight(RobustEstimator estimator, double x, double sigma_s);
 
+/// What the Tukey kernel rebuilds on every call: each face's normal, area and centroid in single
+/// precision (32 bytes a face). A caller that filters repeatedly passes the same one so nothing is
+/// allocated after the first call.
+struct FilterWork {
+  struct alignas(32) Face {
+    float nx, ny, nz, area, cx, cy, cz, unused;
+  };
+  std::vector<Face> faces;
+};
+
 /// n~_i = normalize( sum_{j in Omega_i} a_j f(|c_i - c_j|, sigma_c) g(|n_i - n_j|, sigma_s) n_j ),
 /// with f(d) = exp(-d^2 / (2 sigma_c^2)). `neighbourhoods` row i is Omega_i. A face whose weights all
 /// vanish keeps its own normal. Writes `filtered` (resized to the face count).
-/// With `face_sigma`, face i uses sigma_s = (*face_sigma)[i] instead.
+/// With `face_sigma`, face i uses sigma_s = (*face_sigma)[i] instead. `filtered` may be `geometry.normals`
+/// itself: the normals are then filtered in place (the Tukey kernel reads them only through `work`'s copy).
 void filter_face_normals(const FaceGeometry& geometry, const Adjacency& neighbourhoods, double sigma_c,
                          double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
-                         const std::vector<double>* face_sigma = nullptr);
+                         const std::vector<double>* face_sigma = nullptr, FilterWork* work = nullptr);
 /// The same with the neighbourhoods packed (row i anchored at i, as packed_face_neighbourhoods makes them):
 /// the same bits, in about half the memory.
 void filter_face_normals(const FaceGeometry& geometry, const PackedRows& neighbourhoods, double sigma_c,
                          double sigma_s, RobustEstimator estimator, std::vector<Vec3>& filtered,
-                         const std::vector<double>* face_sigma = nullptr);
+                         const std::vector<double>* face_sigma = nullptr, FilterWork* work = nullptr);
 
 /// Instruction set the Tukey kernel of filter_face_normals uses: `best` takes AVX2 where the processor
 /// has it, `sse2` never does. Both give the same bits (the lanes are summed in one fixed order); the
