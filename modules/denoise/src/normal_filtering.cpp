@@ -62,6 +62,7 @@ inline double exp_nonpositive(double x) {
 // into a per-thread buffer (grown once, never inside the iterations after the first).
 struct PlainRows {
   const Adjacency& a;
+  [[gnu::always_inline]] static const std::uint16_t* differences(long, int&) { return nullptr; }
   [[gnu::always_inline]] const int* row(long i, int& count) const {
     count = a.size(static_cast<std::size_t>(i));
     return a.begin(static_cast<std::size_t>(i));
@@ -70,6 +71,7 @@ struct PlainRows {
 struct UnpackedRows {
   const PackedRows& p;
   int* buffer;
+  [[gnu::always_inline]] const std::uint16_t* differences(long i, int& count) const { return p.differences(static_cast<std::size_t>(i), count); }
   [[gnu::always_inline]] const int* row(long i, int& count) const {
     count = p.unpack(static_cast<std::size_t>(i), static_cast<int>(i), buffer);
     return buffer;
@@ -194,15 +196,22 @@ template <int W>
 // (lanes past the end of a neighbourhood, and neighbours the estimator rejects, get weight 0), each lane
 // sums its own, and the eight lane sums are added as ((0+1)+(2+3))+((4+5)+(6+7)). The two kernels below
 // differ only in how they read the neighbours (the AVX2 gathers cannot sit in code compiled for SSE2).
+// The kernel widths as the lanes use them.
+struct Widths {
+  float ss2, inv_ss2, inv_two_sc2;
+  Widths(double sigma_c, double sigma_s)
+      : ss2(static_cast<float>(sigma_s * sigma_s)), inv_ss2(static_cast<float>(1.0 / (sigma_s * sigma_s))),
+        inv_two_sc2(static_cast<float>(1.0 / (2.0 * sigma_c * sigma_c))) {}
+};
+
 template <int W>
 struct FaceTerms {
   static constexpr int kParts = 8 / W;
   Vf<W> nx, ny, nz, cx, cy, cz, ss2, inv_ss2, inv_two_sc2;
   Vf<W> sx[kParts], sy[kParts], sz[kParts];
-  FaceTerms(const PackedFace& f, double sigma_c, double sigma_s)
+  FaceTerms(const PackedFace& f, const Widths& w)
       : nx(splat<W>(f.nx)), ny(splat<W>(f.ny)), nz(splat<W>(f.nz)), cx(splat<W>(f.cx)), cy(splat<W>(f.cy)), cz(splat<W>(f.cz)),
-        ss2(splat<W>(static_cast<float>(sigma_s * sigma_s))), inv_ss2(splat<W>(static_cast<float>(1.0 / (sigma_s * sigma_s)))),
-        inv_two_sc2(splat<W>(static_cast<float>(1.0 / (2.0 * sigma_c * sigma_c)))) {
+        ss2(splat<W>(w.ss2)), inv_ss2(splat<W>(w.inv_ss2)), inv_two_sc2(splat<W>(w.inv_two_sc2)) {
     for (int p = 0; p < kParts; ++p) sx[p] = sy[p] = sz[p] = splat<W>(0.0f);
   }
   [[gnu::always_inline]] void add(const Group<W>& q) { accumulate<W>(q, nx, ny, nz, cx, cy, cz, ss2, inv_ss2, inv_two_sc2, sx, sy, sz); }
@@ -244,6 +253,7 @@ struct KernelArgs {
   double sigma_c, sigma_s;
   const std::vector<double>* face_sigma;
   std::vector<Vec3>& out;
+  [[nodiscard]] Widths widths(long i) const { return {sigma_c, face_sigma != nullptr ? (*face_sigma)[i] : sigma_s}; }
 };
 
 template <int W>
@@ -261,31 +271,58 @@ __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, cons
   // loads and in-lane shuffles (AVX2 gathers are microcoded and slow on many processors).
   const auto* base = reinterpret_cast<const float*>(k.faces);
   Group<8> q{};
+  auto add_group = [&](FaceTerms<8>& t, const int* index, int live) __attribute__((target("avx2"), always_inline)) {
+    __m256 na[4], cc[4];
+    for (int l = 0; l < 4; ++l) {
+      const float* lo = base + 8 * static_cast<std::ptrdiff_t>(index[l]);
+      const float* hi = base + 8 * static_cast<std::ptrdiff_t>(index[l + 4]);
+      na[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo)), _mm_load_ps(hi), 1);
+      cc[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo + 4)), _mm_load_ps(hi + 4), 1);
+    }
+    const __m256 t0 = _mm256_unpacklo_ps(na[0], na[1]), t1 = _mm256_unpackhi_ps(na[0], na[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(na[2], na[3]), t3 = _mm256_unpackhi_ps(na[2], na[3]);
+    q.nx[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+    q.ny[0] = _mm256_shuffle_ps(t0, t2, 0xEE);
+    q.nz[0] = _mm256_shuffle_ps(t1, t3, 0x44);
+    q.a[0] = _mm256_shuffle_ps(t1, t3, 0xEE);
+    const __m256 u0 = _mm256_unpacklo_ps(cc[0], cc[1]), u1 = _mm256_unpackhi_ps(cc[0], cc[1]);
+    const __m256 u2 = _mm256_unpacklo_ps(cc[2], cc[3]), u3 = _mm256_unpackhi_ps(cc[2], cc[3]);
+    q.cx[0] = _mm256_shuffle_ps(u0, u2, 0x44);
+    q.cy[0] = _mm256_shuffle_ps(u0, u2, 0xEE);
+    q.cz[0] = _mm256_shuffle_ps(u1, u3, 0x44);
+    q.live[0] = kLane < splat_int<8>(live) ? splat<8>(1.0f) : splat<8>(0.0f);
+    t.add(q);
+  };
+  const Widths global = k.widths(first);
   for (long i = first; i < last; ++i) {
-    FaceTerms<8> t(k.faces[i], k.sigma_c, k.face_sigma != nullptr ? (*k.face_sigma)[i] : k.sigma_s);
+    FaceTerms<8> t(k.faces[i], k.face_sigma != nullptr ? k.widths(i) : global);
+    const auto self = static_cast<int>(i);
+    alignas(32) int index[8];
     int count = 0;
-    const int* row = nbh.row(i, count);
-    for (int at = 0; at < count; at += 8) {
-      __m256 na[4], cc[4];
-      for (int l = 0; l < 4; ++l) {
-        const float* lo = base + 8 * static_cast<std::ptrdiff_t>(lane_index(static_cast<int>(i), row, at + l, count));
-        const float* hi = base + 8 * static_cast<std::ptrdiff_t>(lane_index(static_cast<int>(i), row, at + l + 4, count));
-        na[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo)), _mm_load_ps(hi), 1);
-        cc[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo + 4)), _mm_load_ps(hi + 4), 1);
+    // A packed row's 16-bit differences become indices eight at a time; the last group of a row pads
+    // with face i itself.
+    if (const std::uint16_t* d = nbh.differences(i, count)) {
+      int at = 0;
+      for (; at + 8 <= count; at += 8) {
+        const __m256i v = _mm256_add_epi32(_mm256_cvtepi16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(d + at))),
+                                           _mm256_set1_epi32(self));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(index), v);
+        add_group(t, index, 8);
       }
-      const __m256 t0 = _mm256_unpacklo_ps(na[0], na[1]), t1 = _mm256_unpackhi_ps(na[0], na[1]);
-      const __m256 t2 = _mm256_unpacklo_ps(na[2], na[3]), t3 = _mm256_unpackhi_ps(na[2], na[3]);
-      q.nx[0] = _mm256_shuffle_ps(t0, t2, 0x44);
-      q.ny[0] = _mm256_shuffle_ps(t0, t2, 0xEE);
-      q.nz[0] = _mm256_shuffle_ps(t1, t3, 0x44);
-      q.a[0] = _mm256_shuffle_ps(t1, t3, 0xEE);
-      const __m256 u0 = _mm256_unpacklo_ps(cc[0], cc[1]), u1 = _mm256_unpackhi_ps(cc[0], cc[1]);
-      const __m256 u2 = _mm256_unpacklo_ps(cc[2], cc[3]), u3 = _mm256_unpackhi_ps(cc[2], cc[3]);
-      q.cx[0] = _mm256_shuffle_ps(u0, u2, 0x44);
-      q.cy[0] = _mm256_shuffle_ps(u0, u2, 0xEE);
-      q.cz[0] = _mm256_shuffle_ps(u1, u3, 0x44);
-      q.live[0] = kLane < splat_int<8>(count - at) ? splat<8>(1.0f) : splat<8>(0.0f);
-      t.add(q);
+      if (at < count) {
+        for (int l = 0; l < 8; ++l) index[l] = at + l < count ? self + static_cast<std::int16_t>(d[at + l]) : self;
+        add_group(t, index, count - at);
+      }
+    } else {
+      const int* row = nbh.row(i, count);
+      for (int at = 0; at < count; at += 8) {
+        const int* group = row + at;
+        if (at + 8 > count) {
+          for (int l = 0; l < 8; ++l) index[l] = lane_index(self, row, at + l, count);
+          group = index;
+        }
+        add_group(t, group, count - at);
+      }
     }
     k.out[i] = t.result(k.g.normals[i]);
   }
@@ -295,7 +332,7 @@ template <class Rows>
 void filter_tukey_sse2(const KernelArgs& k, const Rows& nbh, long first, long last) {
   Group<4> q{};
   for (long i = first; i < last; ++i) {
-    FaceTerms<4> t(k.faces[i], k.sigma_c, k.face_sigma != nullptr ? (*k.face_sigma)[i] : k.sigma_s);
+    FaceTerms<4> t(k.faces[i], k.widths(i));
     int count = 0;
     const int* row = nbh.row(i, count);
     for (int at = 0; at < count; at += 8) {

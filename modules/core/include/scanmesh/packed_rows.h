@@ -43,6 +43,14 @@ class PackedRows {
     for (std::uint32_t k = 0; k < end - begin; k += 2) f(static_cast<int>(u[k] | static_cast<std::uint32_t>(u[k + 1]) << 16));
   }
 
+  /// Row i's 16-bit differences from its anchor and their number, or nullptr if row i stores whole
+  /// indices (read it with for_each or unpack then).
+  [[nodiscard]] const std::uint16_t* differences(std::size_t i, int& count) const {
+    if ((starts_[i] & kWhole) != 0) return nullptr;
+    count = static_cast<int>((starts_[i + 1] & kOffset) - starts_[i]);
+    return units_.data() + starts_[i];
+  }
+
   /// Writes row i (read with the anchor it was appended with) to `out`, which holds max_row() ints;
   /// returns its length.
   int unpack(std::size_t i, int anchor, int* out) const {
