@@ -220,12 +220,11 @@ struct FaceTerms {
     float s[3];
     if constexpr (W == 8) {
       // The same sums by shuffles: lane 0 gets (0+1), then (0+1)+(2+3), then that plus (4+5)+(6+7).
-      const Vi<8> pairs = {1, 0, 3, 2, 5, 4, 7, 6}, quads = {2, 3, 0, 1, 6, 7, 4, 5}, halves = {4, 5, 6, 7, 0, 1, 2, 3};
       const Vf<8>* v[3] = {&sx[0], &sy[0], &sz[0]};
       for (int c = 0; c < 3; ++c) {
-        Vf<8> x = *v[c] + __builtin_shuffle(*v[c], pairs);
-        x = x + __builtin_shuffle(x, quads);
-        x = x + __builtin_shuffle(x, halves);
+        Vf<8> x = *v[c] + __builtin_shufflevector(*v[c], *v[c], 1, 0, 3, 2, 5, 4, 7, 6);
+        x = x + __builtin_shufflevector(x, x, 2, 3, 0, 1, 6, 7, 4, 5);
+        x = x + __builtin_shufflevector(x, x, 4, 5, 6, 7, 0, 1, 2, 3);
         s[c] = x[0];
       }
     } else {
@@ -256,43 +255,40 @@ struct KernelArgs {
   [[nodiscard]] Widths widths(long i) const { return {sigma_c, face_sigma != nullptr ? (*face_sigma)[i] : sigma_s}; }
 };
 
-template <int W>
-[[gnu::always_inline]] inline Vi<W> splat_int(std::int32_t x) {
-  Vi<W> v;
-  for (int l = 0; l < W; ++l) v[l] = x;
-  return v;
+
+// Adds neighbours index[0..7] (the first `live` of them real) to face terms `t`, reading each
+// neighbour's 32 bytes as two 16-byte halves (normal and area; centroid), neighbours l and l+4 into the
+// low and high half of one register, transposed 4x4 within the halves: plain loads and in-lane shuffles
+// (AVX2 gathers are microcoded and slow on many processors).
+__attribute__((target("avx2"), always_inline)) inline void add_group_avx2(const float* base, const int* index, int live, Group<8>& q,
+                                                                          FaceTerms<8>& t) {
+  __m256 na[4], cc[4];
+  for (int l = 0; l < 4; ++l) {
+    const float* lo = base + 8 * static_cast<std::ptrdiff_t>(index[l]);
+    const float* hi = base + 8 * static_cast<std::ptrdiff_t>(index[l + 4]);
+    na[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo)), _mm_load_ps(hi), 1);
+    cc[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo + 4)), _mm_load_ps(hi + 4), 1);
+  }
+  const __m256 t0 = _mm256_unpacklo_ps(na[0], na[1]), t1 = _mm256_unpackhi_ps(na[0], na[1]);
+  const __m256 t2 = _mm256_unpacklo_ps(na[2], na[3]), t3 = _mm256_unpackhi_ps(na[2], na[3]);
+  q.nx[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+  q.ny[0] = _mm256_shuffle_ps(t0, t2, 0xEE);
+  q.nz[0] = _mm256_shuffle_ps(t1, t3, 0x44);
+  q.a[0] = _mm256_shuffle_ps(t1, t3, 0xEE);
+  const __m256 u0 = _mm256_unpacklo_ps(cc[0], cc[1]), u1 = _mm256_unpackhi_ps(cc[0], cc[1]);
+  const __m256 u2 = _mm256_unpacklo_ps(cc[2], cc[3]), u3 = _mm256_unpackhi_ps(cc[2], cc[3]);
+  q.cx[0] = _mm256_shuffle_ps(u0, u2, 0x44);
+  q.cy[0] = _mm256_shuffle_ps(u0, u2, 0xEE);
+  q.cz[0] = _mm256_shuffle_ps(u1, u3, 0x44);
+  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  q.live[0] = _mm256_and_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(live), lanes)), _mm256_set1_ps(1.0f));
+  t.add(q);
 }
-constexpr Vi<8> kLane = {0, 1, 2, 3, 4, 5, 6, 7};
 
 template <class Rows>
 __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, const Rows& nbh, long first, long last) {
-  // Each neighbour's 32 bytes are read as two 16-byte halves (normal and area; centroid), neighbours
-  // k and k+4 into the low and high half of one register, and transposed 4x4 within the halves: plain
-  // loads and in-lane shuffles (AVX2 gathers are microcoded and slow on many processors).
   const auto* base = reinterpret_cast<const float*>(k.faces);
   Group<8> q{};
-  auto add_group = [&](FaceTerms<8>& t, const int* index, int live) __attribute__((target("avx2"), always_inline)) {
-    __m256 na[4], cc[4];
-    for (int l = 0; l < 4; ++l) {
-      const float* lo = base + 8 * static_cast<std::ptrdiff_t>(index[l]);
-      const float* hi = base + 8 * static_cast<std::ptrdiff_t>(index[l + 4]);
-      na[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo)), _mm_load_ps(hi), 1);
-      cc[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo + 4)), _mm_load_ps(hi + 4), 1);
-    }
-    const __m256 t0 = _mm256_unpacklo_ps(na[0], na[1]), t1 = _mm256_unpackhi_ps(na[0], na[1]);
-    const __m256 t2 = _mm256_unpacklo_ps(na[2], na[3]), t3 = _mm256_unpackhi_ps(na[2], na[3]);
-    q.nx[0] = _mm256_shuffle_ps(t0, t2, 0x44);
-    q.ny[0] = _mm256_shuffle_ps(t0, t2, 0xEE);
-    q.nz[0] = _mm256_shuffle_ps(t1, t3, 0x44);
-    q.a[0] = _mm256_shuffle_ps(t1, t3, 0xEE);
-    const __m256 u0 = _mm256_unpacklo_ps(cc[0], cc[1]), u1 = _mm256_unpackhi_ps(cc[0], cc[1]);
-    const __m256 u2 = _mm256_unpacklo_ps(cc[2], cc[3]), u3 = _mm256_unpackhi_ps(cc[2], cc[3]);
-    q.cx[0] = _mm256_shuffle_ps(u0, u2, 0x44);
-    q.cy[0] = _mm256_shuffle_ps(u0, u2, 0xEE);
-    q.cz[0] = _mm256_shuffle_ps(u1, u3, 0x44);
-    q.live[0] = kLane < splat_int<8>(live) ? splat<8>(1.0f) : splat<8>(0.0f);
-    t.add(q);
-  };
   const Widths global = k.widths(first);
   for (long i = first; i < last; ++i) {
     FaceTerms<8> t(k.faces[i], k.face_sigma != nullptr ? k.widths(i) : global);
@@ -307,11 +303,11 @@ __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, cons
         const __m256i v = _mm256_add_epi32(_mm256_cvtepi16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(d + at))),
                                            _mm256_set1_epi32(self));
         _mm256_store_si256(reinterpret_cast<__m256i*>(index), v);
-        add_group(t, index, 8);
+        add_group_avx2(base, index, 8, q, t);
       }
       if (at < count) {
         for (int l = 0; l < 8; ++l) index[l] = at + l < count ? self + static_cast<std::int16_t>(d[at + l]) : self;
-        add_group(t, index, count - at);
+        add_group_avx2(base, index, count - at, q, t);
       }
     } else {
       const int* row = nbh.row(i, count);
@@ -321,7 +317,7 @@ __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, cons
           for (int l = 0; l < 8; ++l) index[l] = lane_index(self, row, at + l, count);
           group = index;
         }
-        add_group(t, group, count - at);
+        add_group_avx2(base, group, count - at, q, t);
       }
     }
     k.out[i] = t.result(k.g.normals[i]);
