@@ -315,7 +315,7 @@ int main(int argc, char** argv) {
   std::vector<double> ratios;
   int rows = 0, beat = 0, bad = 0, flip_bad = 0;
   for (const auto& model : bench::corpus_models(data)) {
-    const AutoRules rules = fold.count(model.name) ? fold[model.name] : f.cands[all].rules;
+    const AutoRules rules = fold.count(model.group) ? fold[model.group] : f.cands[all].rules;
     for (const auto& pair : bench::load_pairs(model)) {
       long nf = 0, df = 0, af = 0;
       const double nm = angle_error(pair.noisy, pair.clean, &nf);
@@ -361,7 +361,7 @@ int main(int argc, char** argv) {
       const double best = std::min({nm, dm, am});
       auto cell = [&](double v) { return (v == best ? "**" : "") + fmt2(v) + (v == best ? "**" : ""); };
       std::printf("| %s%s | %s | %s / %ld | %s / %ld | %s / %ld | %s, %d%s%s | %.2fx |\n", model.name.c_str(),
-                  fold.count(model.name) ? "" : " (test only)", pair.variant.c_str(), cell(nm).c_str(), nf, cell(dm).c_str(), df,
+                  fold.count(model.group) ? "" : " (test only)", pair.variant.c_str(), cell(nm).c_str(), nf, cell(dm).c_str(), df,
                   cell(am).c_str(), af, a.mode.c_str(),
                   a.run.iterations, a.probe_iterations > 0 ? (" + " + std::to_string(a.probe_iterations) + " probe").c_str() : "",
                   a.run.stop_reason == "result check" ? " (check)" : "", ratio);

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "scanmesh/mesh_io.h"
+#include "scanmesh/topology.h"
 
 namespace scanmesh::bench {
 namespace fs = std::filesystem;
@@ -38,7 +39,7 @@ std::vector<Model> corpus_models(const fs::path& data) {
       {"beetle.obj", "mechanical"},   {"teapot.obj", "mechanical"}, {"woody.obj", "organic"},
   };
   for (const auto& [file, kind] : train)
-    if (fs::exists(data / "train" / file, ec)) models.push_back({fs::path(file).stem().string(), kind, data / "train" / file, {}});
+    if (fs::exists(data / "train" / file, ec)) models.push_back({fs::path(file).stem().string(), kind, data / "train" / file, {}, 0, {}});
   // pairs/: the clean halves are models; the noisy halves are real (or reference) noisy inputs.
   std::vector<fs::path> pair_dirs;
   if (fs::is_directory(data / "pairs", ec))
@@ -49,7 +50,7 @@ std::vector<Model> corpus_models(const fs::path& data) {
     const std::string name = folder.substr(0, folder.find('-'));
     auto it = std::find_if(models.begin(), models.end(), [&](const Model& m) { return m.name == name; });
     if (it == models.end()) {
-      models.push_back({name, name == "bunny" ? "organic" : "mechanical", dir / "clean.obj", {}});
+      models.push_back({name, name == "bunny" ? "organic" : "mechanical", dir / "clean.obj", {}, 0, {}});
       it = models.end() - 1;
     }
     it->given.push_back(dir / "noisy.obj");  // fandisk-0.3 and fandisk-0.7 are one model
@@ -58,8 +59,77 @@ std::vector<Model> corpus_models(const fs::path& data) {
       {"bunny-adaptive.off", "organic"}, {"hemisphere-open.off", "mechanical"}, {"featuretype.stl", "mechanical"},
       {"dragon-202k.ply", "organic"}};
   for (const auto& [file, kind] : meshes)
-    if (fs::exists(data / "meshes" / file, ec)) models.push_back({fs::path(file).stem().string(), kind, data / "meshes" / file, {}});
+    if (fs::exists(data / "meshes" / file, ec)) models.push_back({fs::path(file).stem().string(), kind, data / "meshes" / file, {}, 0, {}});
+  // Dense organic models: three closed coarse ones subdivided once (23k, 23k and 48k faces). At their own
+  // edge length they look nearly flat between neighbours, as dense scans do.
+  for (const char* name : {"spot", "cow", "homer"}) {
+    auto it = std::find_if(models.begin(), models.end(), [&](const Model& m) { return m.name == name; });
+    if (it != models.end()) models.push_back({it->name + "-dense", it->kind, it->clean, {}, 1, it->name});
+  }
+  for (Model& m : models)
+    if (m.group.empty()) m.group = m.name;
   return models;
+}
+
+Mesh loop_subdivide(const Mesh& mesh) {
+  const Topology t = build_topology(mesh);
+  const std::size_t nv = mesh.num_vertices();
+  Mesh out;
+  out.positions.resize(nv + t.edges.size());
+  // Old vertices.
+  for (std::size_t v = 0; v < nv; ++v) {
+    const int* n = t.vertex_vertices.begin(v);
+    const int k = t.vertex_vertices.size(v);
+    const Vec3& p = mesh.positions[v];
+    if (t.boundary_vertex[v]) {
+      // The two neighbours along boundary edges.
+      Vec3 sum = Vec3::Zero();
+      int found = 0;
+      for (const int* f = t.vertex_faces.begin(v); f != t.vertex_faces.end(v); ++f)
+        for (int c = 0; c < 3; ++c) {
+          const int e = t.face_edges[*f][c];
+          if (t.edge_faces.size(e) != 1) continue;
+          const int other = t.edges[e][0] == static_cast<int>(v) ? t.edges[e][1] : t.edges[e][1] == static_cast<int>(v) ? t.edges[e][0] : -1;
+          if (other >= 0) sum += mesh.positions[other], ++found;
+        }
+      out.positions[v] = found == 2 ? Vec3(0.75 * p + 0.125 * sum) : p;  // corners and odd boundaries stay
+      continue;
+    }
+    if (k < 3) {
+      out.positions[v] = p;
+      continue;
+    }
+    const double beta = k == 3 ? 3.0 / 16.0 : 3.0 / (8.0 * k);
+    Vec3 sum = Vec3::Zero();
+    for (int j = 0; j < k; ++j) sum += mesh.positions[n[j]];
+    out.positions[v] = (1.0 - k * beta) * p + beta * sum;
+  }
+  // Edge points.
+  for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    const Vec3& a = mesh.positions[t.edges[e][0]];
+    const Vec3& b = mesh.positions[t.edges[e][1]];
+    if (t.edge_faces.size(e) != 2) {
+      out.positions[nv + e] = 0.5 * (a + b);
+      continue;
+    }
+    Vec3 opposite = Vec3::Zero();
+    for (const int* f = t.edge_faces.begin(e); f != t.edge_faces.end(e); ++f)
+      for (int c : mesh.faces[*f])
+        if (c != t.edges[e][0] && c != t.edges[e][1]) opposite += mesh.positions[c];
+    out.positions[nv + e] = 0.375 * (a + b) + 0.125 * opposite;
+  }
+  out.faces.reserve(4 * mesh.num_faces());
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const Face& c = mesh.faces[f];
+    // face_edges[f] = edges (c0,c1), (c1,c2), (c2,c0)
+    const int m01 = static_cast<int>(nv) + t.face_edges[f][0], m12 = static_cast<int>(nv) + t.face_edges[f][1],
+              m20 = static_cast<int>(nv) + t.face_edges[f][2];
+    out.faces.push_back({c[0], m01, m20});
+    out.faces.push_back({m01, c[1], m12});
+    out.faces.push_back({m20, m12, c[2]});
+    out.faces.push_back({m01, m12, m20});
+  }
+  return out;
 }
 
 // FNV-1a: a seed that is the same with every standard library (std::hash is not).
@@ -71,11 +141,14 @@ std::uint64_t seed_of(const std::string& text) {
 
 std::vector<Pair> load_pairs(const Model& model) {
   std::vector<Pair> pairs;
-  const Mesh clean = read_mesh(model.clean.string());
+  Mesh clean = read_mesh(model.clean.string());
+  for (int s = 0; s < model.subdivisions; ++s) clean = loop_subdivide(clean);
+  const std::string group = model.group.empty() ? model.name : model.group;
+  const std::string prefix = model.subdivisions > 0 ? "dense-" : "";
   for (const auto& given : model.given)
-    pairs.push_back({model.name, "given-" + given.parent_path().filename().string(), model.kind, clean, read_mesh(given.string())});
+    pairs.push_back({group, "given-" + given.parent_path().filename().string(), model.kind, clean, read_mesh(given.string())});
   for (const Variant& v : corpus_variants()) {
-    Pair p{model.name, v.name(), model.kind, clean, clean};
+    Pair p{group, prefix + v.name(), model.kind, clean, clean};
     NoiseOptions o;
     o.level = v.level;
     o.kind = v.kind;

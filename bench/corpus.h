@@ -25,7 +25,18 @@ struct Model {
   std::string name, kind;
   std::filesystem::path clean;  ///< clean mesh file
   std::vector<std::filesystem::path> given;  ///< noisy files shipped with it (same vertices and faces)
+  /// Loop subdivision steps applied to the clean mesh: a dense, smooth version of a coarse model (4x the
+  /// faces per step), like the dense scans users bring.
+  int subdivisions = 0;
+  /// Cross-validation group (Pair::model): a dense version is held back with its coarse original.
+  std::string group;
 };
+
+/// One step of Loop subdivision (Loop 1987): every triangle into four, new edge points 3/8 + 3/8 + 1/8 +
+/// 1/8 of the edge's ends and opposite corners, old vertices moved by Warren's weights; on boundaries
+/// the cubic B-spline rules (edge midpoints, 3/4 + 1/8 + 1/8). Non-manifold edges are split at their
+/// midpoints.
+Mesh loop_subdivide(const Mesh& mesh);
 
 /// The noisy variants made from every clean model: (kind, direction, level x mean edge).
 struct Variant {
