@@ -18,18 +18,19 @@ Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c, double* area) 
 }
 
 void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector<Face>& faces,
-                           FaceGeometry& out) {
+                           FaceGeometry& out, bool with_centroids) {
   const auto nf = static_cast<long>(faces.size());
   out.normals.resize(faces.size());
   out.areas.resize(faces.size());
-  out.centroids.resize(faces.size());
+  if (with_centroids) out.centroids.resize(faces.size());
+  else std::vector<Vec3>().swap(out.centroids);
 #pragma omp parallel for schedule(static)
   for (long f = 0; f < nf; ++f) {
     const Vec3& a = positions[faces[f][0]];
     const Vec3& b = positions[faces[f][1]];
     const Vec3& c = positions[faces[f][2]];
     out.normals[f] = triangle_normal(a, b, c, &out.areas[f]);
-    out.centroids[f] = (a + b + c) / 3.0;
+    if (with_centroids) out.centroids[f] = (a + b + c) / 3.0;
   }
 }
 

@@ -309,6 +309,15 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   // only the vertex update reads it, and that takes the centroids and areas.
   std::vector<Vec3>& filtered = geometry.normals;
   FilterWork work;
+  // The Tukey kernel and the vertex update compute each face's centroid from the positions as they need
+  // it (the same bits), so the iterations do not hold a table of them (24 bytes a face); the other
+  // estimators and per-iteration neighbourhood searches read the table.
+  const bool lean = options.estimator == RobustEstimator::tukey && !options.recompute_neighbourhoods;
+  if (lean) {
+    work.positions = &positions;
+    work.faces = &mesh.faces;
+    std::vector<Vec3>().swap(geometry.centroids);
+  }
   double lambda = options.lambda;
   report.stop_reason = "iterations";
   for (int it = 0; it < options.iterations; ++it) {
@@ -327,14 +336,14 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     report.seconds_filtering += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     update_vertices(positions, topology, fidelity, geometry, filtered, lambda, boundary ? &curves : nullptr,
-                    options.feature_aware_fidelity, updated);
+                    options.feature_aware_fidelity, updated, lean ? &mesh.faces : nullptr);
     positions.swap(updated);
     if (boundary)
       smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window);
     if (!fixed.empty())
       for (std::size_t v = 0; v < positions.size(); ++v)
         if (fixed[v]) positions[v] = mesh.positions[v];
-    compute_face_geometry(positions, mesh.faces, geometry);  // for the next iteration and the stop rule
+    compute_face_geometry(positions, mesh.faces, geometry, !lean);  // for the next iteration and the stop rule
     report.seconds_vertex_update += seconds_since(t0);
     lambda *= options.decay;
     ++report.iterations;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 
 #include <immintrin.h>
 
@@ -146,19 +147,28 @@ template <int W>
   return p * scale;
 }
 
-using PackedFace = FilterWork::Face;
+using PackedFace = FilterWork::Record;
 static_assert(sizeof(PackedFace) == 32);
 
 // Centroids are stored relative to face 0's, so a mesh far from the origin keeps its precision (any
 // fixed origin gives the same weights up to rounding; this one depends on nothing but the input).
-void pack_faces(const FaceGeometry& g, std::vector<PackedFace>& out) {
+void pack_faces(const FaceGeometry& g, const FilterWork* work, std::vector<PackedFace>& out) {
   const auto nf = static_cast<long>(g.normals.size());
-  const Vec3 mid = nf > 0 ? g.centroids[0] : Vec3::Zero();
+  const bool stored = !g.centroids.empty();
+  if (!stored && (work == nullptr || work->positions == nullptr || work->faces == nullptr))
+    throw std::logic_error("filter_face_normals: geometry without centroids and no positions to compute them from");
+  auto centroid = [&](long f) -> Vec3 {
+    if (stored) return g.centroids[f];
+    const Face& t = (*work->faces)[f];
+    const std::vector<Vec3>& p = *work->positions;
+    return (p[t[0]] + p[t[1]] + p[t[2]]) / 3.0;
+  };
+  const Vec3 mid = nf > 0 ? centroid(0) : Vec3::Zero();
   out.resize(g.normals.size());
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nf; ++i) {
     const Vec3& n = g.normals[i];
-    const Vec3 c = g.centroids[i] - mid;
+    const Vec3 c = centroid(i) - mid;
     out[i] = {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z()), static_cast<float>(g.areas[i]),
               static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()), 0.0f};
   }
@@ -405,6 +415,8 @@ namespace {
 template <class MakeRows>
 void filter_with(const FaceGeometry& g, MakeRows make_rows, double sigma_c, double sigma_s, RobustEstimator estimator,
                  std::vector<Vec3>& filtered, const std::vector<double>* face_sigma, FilterWork* work) {
+  if (estimator != RobustEstimator::tukey && g.centroids.empty() && !g.normals.empty())
+    throw std::logic_error("filter_face_normals: the robust estimators other than Tukey's need the geometry's centroids");
   if (&filtered == &g.normals && estimator != RobustEstimator::tukey) {
     // In place: the estimators below read the neighbours' normals from `g` as they write.
     std::vector<Vec3> out;
@@ -419,8 +431,8 @@ void filter_with(const FaceGeometry& g, MakeRows make_rows, double sigma_c, doub
       const auto nf = static_cast<long>(g.normals.size());
       constexpr long kBlock = 512;
       std::vector<PackedFace> local;
-      std::vector<PackedFace>& packed = work != nullptr ? work->faces : local;
-      pack_faces(g, packed);
+      std::vector<PackedFace>& packed = work != nullptr ? work->records : local;
+      pack_faces(g, work, packed);
       const KernelArgs args{packed.data(), g, sigma_c, sigma_s, face_sigma, filtered};
       const auto kernel = g_isa == FilterIsa::best && cpu_has_avx2() ? filter_tukey_avx2<Rows> : filter_tukey_sse2<Rows>;
 #pragma omp parallel

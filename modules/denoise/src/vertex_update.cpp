@@ -56,9 +56,16 @@ Adjacency fidelity_neighbours(const Mesh& mesh, Topology& topology) {
 
 void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const PackedRows& neighbours,
                      const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
-                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated) {
+                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated,
+                     const std::vector<Face>* faces) {
   const auto nv = static_cast<long>(positions.size());
   updated.resize(positions.size());
+  const bool stored = !geometry.centroids.empty() || faces == nullptr;
+  auto centroid = [&](int f) -> Vec3 {
+    if (stored) return geometry.centroids[f];
+    const Face& t = (*faces)[f];
+    return (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0;
+  };
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
     const Vec3& vi = positions[i];
@@ -75,7 +82,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     double area = 0.0;
     for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
       const Vec3& n = filtered_normals[*f];
-      fit += n * n.dot(geometry.centroids[*f] - vi);
+      fit += n * n.dot(centroid(*f) - vi);
       vertex_normal += geometry.areas[*f] * n;
       if (feature_aware) {
         tensor += geometry.areas[*f] * n * n.transpose();

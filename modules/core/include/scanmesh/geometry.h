@@ -16,9 +16,11 @@ struct FaceGeometry {
 };
 
 /// Computes FaceGeometry for `positions` (which may differ from mesh.positions, e.g. while iterating).
+/// Without `with_centroids` the centroids are left empty (and their memory freed): the denoiser's
+/// iterations compute them where they are needed, (a + b + c) / 3 with the same bits.
 /// Runs in parallel; the result does not depend on the thread count.
 void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector<Face>& faces,
-                           FaceGeometry& out);
+                           FaceGeometry& out, bool with_centroids = true);
 
 /// Unit normal and area of one triangle (zero normal if degenerate).
 Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c, double* area = nullptr);

@@ -18,10 +18,13 @@ double robust_weight(RobustEstimator estimator, double x, double sigma_s);
 /// precision (32 bytes a face). A caller that filters repeatedly passes the same one so nothing is
 /// allocated after the first call.
 struct FilterWork {
-  struct alignas(32) Face {
+  struct alignas(32) Record {
     float nx, ny, nz, area, cx, cy, cz, unused;
   };
-  std::vector<Face> faces;
+  std::vector<Record> records;
+  /// Where the centroids come from when the geometry has none (compute_face_geometry without them).
+  const std::vector<Vec3>* positions = nullptr;
+  const std::vector<Face>* faces = nullptr;
 };
 
 /// n~_i = normalize( sum_{j in Omega_i} a_j f(|c_i - c_j|, sigma_c) g(|n_i - n_j|, sigma_s) n_j ),

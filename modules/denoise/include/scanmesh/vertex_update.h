@@ -24,9 +24,11 @@ Adjacency fidelity_neighbours(const Mesh& mesh, Topology& topology);
 /// (fidelity_neighbours, packed with each row anchored at its vertex). With `boundary` non-null, boundary vertices
 /// only even out their edges along the boundary (their denoising is smooth_boundary_curves's job).
 /// With `feature_aware`, the fidelity term R_i acts only along sharp edges (not across them) and not at
-/// corners, judged from the normal tensor of the filtered normals around the vertex.
+/// corners, judged from the normal tensor of the filtered normals around the vertex. If `geometry` has no
+/// centroids, each face's is computed from `positions` and `faces` (which must then be given).
 void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const PackedRows& neighbours,
                      const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
-                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated);
+                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated,
+                     const std::vector<Face>* faces = nullptr);
 
 }  // namespace scanmesh
