@@ -30,7 +30,7 @@ void compute_face_geometry(const std::vector<Vec3>& positions, const std::vector
     const Vec3& b = positions[faces[f][1]];
     const Vec3& c = positions[faces[f][2]];
     out.normals[f] = triangle_normal(a, b, c, &out.areas[f]);
-    if (with_centroids) out.centroids[f] = (a + b + c) / 3.0;
+    if (with_centroids) out.centroids[f] = face_centroid(positions, faces[f]);
   }
 }
 

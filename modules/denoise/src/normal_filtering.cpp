@@ -157,12 +157,7 @@ void pack_faces(const FaceGeometry& g, const FilterWork* work, std::vector<Packe
   const bool stored = !g.centroids.empty();
   if (!stored && (work == nullptr || work->positions == nullptr || work->faces == nullptr))
     throw std::logic_error("filter_face_normals: geometry without centroids and no positions to compute them from");
-  auto centroid = [&](long f) -> Vec3 {
-    if (stored) return g.centroids[f];
-    const Face& t = (*work->faces)[f];
-    const std::vector<Vec3>& p = *work->positions;
-    return (p[t[0]] + p[t[1]] + p[t[2]]) / 3.0;
-  };
+  auto centroid = [&](long f) -> Vec3 { return stored ? g.centroids[f] : face_centroid(*work->positions, (*work->faces)[f]); };
   const Vec3 mid = nf > 0 ? centroid(0) : Vec3::Zero();
   out.resize(g.normals.size());
 #pragma omp parallel for schedule(static)
@@ -181,31 +176,6 @@ struct Group {
   Vf<W> nx[kParts], ny[kParts], nz[kParts], a[kParts], cx[kParts], cy[kParts], cz[kParts], live[kParts];
 };
 
-// Adds the eight neighbours' terms to the lane sums: the same operations for every lane width.
-template <int W>
-[[gnu::always_inline]] inline void accumulate(const Group<W>& q, const Vf<W>& nx, const Vf<W>& ny, const Vf<W>& nz, const Vf<W>& cx,
-                                              const Vf<W>& cy, const Vf<W>& cz, const Vf<W>& ss2, const Vf<W>& inv_ss2,
-                                              const Vf<W>& inv_two_sc2, Vf<W>* sx, Vf<W>* sy, Vf<W>* sz) {
-  using V = Vf<W>;
-  for (int p = 0; p < Group<W>::kParts; ++p) {
-    const V dx = nx - q.nx[p], dy = ny - q.ny[p], dz = nz - q.nz[p];
-    const V x2 = dx * dx + dy * dy + dz * dz;
-    const V ex = cx - q.cx[p], ey = cy - q.cy[p], ez = cz - q.cz[p];
-    const V d2 = ex * ex + ey * ey + ez * ez;
-    const V u = splat<W>(1.0f) - x2 * inv_ss2;
-    const V w = splat<W>(0.5f) * u * u;
-    V f = (q.a[p] * exp_nonpositive<W>(-d2 * inv_two_sc2) * w) * q.live[p];
-    f = x2 <= ss2 ? f : splat<W>(0.0f);
-    sx[p] += f * q.nx[p];
-    sy[p] += f * q.ny[p];
-    sz[p] += f * q.nz[p];
-  }
-}
-
-// Tukey's estimator, the default and the one --auto uses: neighbours k..k+7 of face i go to lanes 0-7
-// (lanes past the end of a neighbourhood, and neighbours the estimator rejects, get weight 0), each lane
-// sums its own, and the eight lane sums are added as ((0+1)+(2+3))+((4+5)+(6+7)). The two kernels below
-// differ only in how they read the neighbours (the AVX2 gathers cannot sit in code compiled for SSE2).
 // The kernel widths as the lanes use them.
 struct Widths {
   float ss2, inv_ss2, inv_two_sc2;
@@ -214,6 +184,10 @@ struct Widths {
         inv_two_sc2(static_cast<float>(1.0 / (2.0 * sigma_c * sigma_c))) {}
 };
 
+// Tukey's estimator, the default and the one --auto uses, for one face: neighbours k..k+7 go to lanes 0-7
+// (lanes past the end of a neighbourhood, and neighbours the estimator rejects, get weight 0), each lane
+// sums its own, and the eight lane sums are added as ((0+1)+(2+3))+((4+5)+(6+7)). The two kernels below
+// differ only in how they fill a Group (AVX2 loads and shuffles cannot sit in code compiled for SSE2).
 template <int W>
 struct FaceTerms {
   static constexpr int kParts = 8 / W;
@@ -224,7 +198,23 @@ struct FaceTerms {
         ss2(splat<W>(w.ss2)), inv_ss2(splat<W>(w.inv_ss2)), inv_two_sc2(splat<W>(w.inv_two_sc2)) {
     for (int p = 0; p < kParts; ++p) sx[p] = sy[p] = sz[p] = splat<W>(0.0f);
   }
-  [[gnu::always_inline]] void add(const Group<W>& q) { accumulate<W>(q, nx, ny, nz, cx, cy, cz, ss2, inv_ss2, inv_two_sc2, sx, sy, sz); }
+  // Adds the eight neighbours' terms to the lane sums: the same operations for every lane width.
+  [[gnu::always_inline]] void add(const Group<W>& q) {
+    using V = Vf<W>;
+    for (int p = 0; p < kParts; ++p) {
+      const V dx = nx - q.nx[p], dy = ny - q.ny[p], dz = nz - q.nz[p];
+      const V x2 = dx * dx + dy * dy + dz * dz;
+      const V ex = cx - q.cx[p], ey = cy - q.cy[p], ez = cz - q.cz[p];
+      const V d2 = ex * ex + ey * ey + ez * ez;
+      const V u = splat<W>(1.0f) - x2 * inv_ss2;
+      const V w = splat<W>(0.5f) * u * u;
+      V f = (q.a[p] * exp_nonpositive<W>(-d2 * inv_two_sc2) * w) * q.live[p];
+      f = x2 <= ss2 ? f : splat<W>(0.0f);
+      sx[p] += f * q.nx[p];
+      sy[p] += f * q.ny[p];
+      sz[p] += f * q.nz[p];
+    }
+  }
   // The normalized sum, or `own` if every weight vanished.
   [[gnu::always_inline]] Vec3 result(const Vec3& own) const {
     float s[3];
@@ -259,12 +249,12 @@ struct FaceTerms {
 struct KernelArgs {
   const PackedFace* faces;
   const FaceGeometry& g;
-  double sigma_c, sigma_s;
+  double sigma_c;
   const std::vector<double>* face_sigma;
   std::vector<Vec3>& out;
-  [[nodiscard]] Widths widths(long i) const { return {sigma_c, face_sigma != nullptr ? (*face_sigma)[i] : sigma_s}; }
+  Widths global;  // every face's, unless face_sigma
+  [[nodiscard]] Widths widths(long i) const { return face_sigma != nullptr ? Widths(sigma_c, (*face_sigma)[i]) : global; }
 };
-
 
 // Adds neighbours index[0..7] (the first `live` of them real) to face terms `t`, reading each
 // neighbour's 32 bytes as two 16-byte halves (normal and area; centroid), neighbours l and l+4 into the
@@ -299,9 +289,8 @@ template <class Rows>
 __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, const Rows& nbh, long first, long last) {
   const auto* base = reinterpret_cast<const float*>(k.faces);
   Group<8> q{};
-  const Widths global = k.widths(first);
   for (long i = first; i < last; ++i) {
-    FaceTerms<8> t(k.faces[i], k.face_sigma != nullptr ? k.widths(i) : global);
+    FaceTerms<8> t(k.faces[i], k.widths(i));
     const auto self = static_cast<int>(i);
     alignas(32) int index[8];
     int count = 0;
@@ -433,7 +422,7 @@ void filter_with(const FaceGeometry& g, MakeRows make_rows, double sigma_c, doub
       std::vector<PackedFace> local;
       std::vector<PackedFace>& packed = work != nullptr ? work->records : local;
       pack_faces(g, work, packed);
-      const KernelArgs args{packed.data(), g, sigma_c, sigma_s, face_sigma, filtered};
+      const KernelArgs args{packed.data(), g, sigma_c, face_sigma, filtered, Widths(sigma_c, sigma_s)};
       const auto kernel = g_isa == FilterIsa::best && cpu_has_avx2() ? filter_tukey_avx2<Rows> : filter_tukey_sse2<Rows>;
 #pragma omp parallel
       {

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace scanmesh {
 namespace {
@@ -60,12 +61,10 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
                      const std::vector<Face>* faces) {
   const auto nv = static_cast<long>(positions.size());
   updated.resize(positions.size());
-  const bool stored = !geometry.centroids.empty() || faces == nullptr;
-  auto centroid = [&](int f) -> Vec3 {
-    if (stored) return geometry.centroids[f];
-    const Face& t = (*faces)[f];
-    return (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0;
-  };
+  const bool stored = !geometry.centroids.empty();
+  if (!stored && faces == nullptr && nv > 0)
+    throw std::logic_error("update_vertices: geometry without centroids and no faces to compute them from");
+  auto centroid = [&](int f) -> Vec3 { return stored ? geometry.centroids[f] : face_centroid(positions, (*faces)[f]); };
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
     const Vec3& vi = positions[i];

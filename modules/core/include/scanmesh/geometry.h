@@ -15,6 +15,12 @@ struct FaceGeometry {
   std::vector<Vec3> centroids;
 };
 
+/// Centroid (a + b + c) / 3 of triangle `f`: the one expression compute_face_geometry stores and the
+/// denoiser's iterations recompute, so both give the same bits.
+inline Vec3 face_centroid(const std::vector<Vec3>& positions, const Face& f) {
+  return (positions[f[0]] + positions[f[1]] + positions[f[2]]) / 3.0;
+}
+
 /// Computes FaceGeometry for `positions` (which may differ from mesh.positions, e.g. while iterating).
 /// Without `with_centroids` the centroids are left empty (and their memory freed): the denoiser's
 /// iterations compute them where they are needed, (a + b + c) / 3 with the same bits.
