@@ -8,6 +8,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "scanmesh/boundary_curves.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/noise_analysis.h"
 #include "scanmesh/geometry.h"
@@ -331,8 +332,6 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     }
     t0 = std::chrono::steady_clock::now();
     filter_face_normals(geometry, *neighbourhoods, c_a, options.sigma_s, options.estimator, filtered, nullptr, &work);
-    if (boundary)
-      filter_boundary_normals(positions, curves, filtered, options.sigma_s, options.estimator, options.boundary_window);
     report.seconds_filtering += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     update_vertices(positions, topology, fidelity, geometry, filtered, lambda, boundary ? &curves : nullptr,

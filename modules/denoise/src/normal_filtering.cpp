@@ -453,69 +453,6 @@ void filter_face_normals(const FaceGeometry& geometry, const PackedRows& neighbo
               filtered, face_sigma, work);
 }
 
-void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
-                             const std::vector<Vec3>& filtered_face_normals, double sigma_s,
-                             RobustEstimator estimator, double window) {
-  std::vector<Vec3>& filtered = curves.normals;
-  const std::size_t ne = curves.edges.size();
-  std::vector<Vec3> m(ne), mid(ne);
-  std::vector<double> len(ne);
-  double mean_len = 0.0;
-  for (std::size_t e = 0; e < ne; ++e) {
-    const auto& edge = curves.edges[e];
-    const Vec3 d = positions[edge.b] - positions[edge.a];
-    len[e] = d.norm();
-    mean_len += len[e];
-    mid[e] = 0.5 * (positions[edge.a] + positions[edge.b]);
-    const Vec3 out = d.cross(filtered_face_normals[edge.face]);
-    const double l = out.norm();
-    m[e] = l > 0.0 ? Vec3(out / l) : Vec3::Zero();
-  }
-  filtered.assign(ne, Vec3::Zero());
-  if (ne == 0) return;
-  mean_len /= static_cast<double>(ne);
-  const double sigma_c = mean_len;
-  const double radius = window * mean_len;
-  const auto loops = static_cast<long>(curves.loop_edges.rows());
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long l = 0; l < loops; ++l) {
-    const int* edges = curves.loop_edges.begin(l);
-    const int n = curves.loop_edges.size(l);
-    const bool closed = curves.loop_closed[l] != 0;
-    for (int k = 0; k < n; ++k) {
-      const int i = edges[k];
-      Vec3 sum = Vec3::Zero();
-      auto add = [&](int j) {
-        const double x = (m[i] - m[j]).norm();
-        const double d = (mid[i] - mid[j]).norm();
-        sum += len[j] * std::exp(-d * d / (2.0 * sigma_c * sigma_c)) * robust_weight(estimator, x, sigma_s) * m[j];
-        return d <= radius;
-      };
-      add(i);
-      // Walk both ways along the loop while within the radius (at most half the loop, and at most
-      // kBoundaryWindowMaxEdges, each way).
-      for (int step = 1; step <= std::min(n / 2, kBoundaryWindowMaxEdges); ++step) {
-        int kk = k + step;
-        if (kk >= n) {
-          if (!closed) break;
-          kk -= n;
-        }
-        if ((mid[edges[kk]] - mid[i]).norm() > radius || !add(edges[kk])) break;
-      }
-      for (int step = 1; step <= std::min((n - 1) / 2, kBoundaryWindowMaxEdges); ++step) {
-        int kk = k - step;
-        if (kk < 0) {
-          if (!closed) break;
-          kk += n;
-        }
-        if ((mid[edges[kk]] - mid[i]).norm() > radius || !add(edges[kk])) break;
-      }
-      const double l2 = sum.norm();
-      filtered[i] = l2 > 0.0 ? Vec3(sum / l2) : m[i];
-    }
-  }
-}
-
 double mean_centroid_distance(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry) {
   // Over manifold edges; only if there are none, consecutive faces of non-manifold edges (all pairs of a
   // fan of k faces would cost k^2).

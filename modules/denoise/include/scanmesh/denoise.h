@@ -85,7 +85,7 @@ struct DenoiseOptions {
                   "Denoise open boundaries as curves so they stay in place; false treats boundary vertices like "
                   "interior ones, as the authors' code does (boundaries creep inwards).")
             .number("boundary_window", &O::boundary_window, closed(0.5, 10), "x boundary edge",
-                    "Width of the boundary-curve fit and of the boundary's normal filter: wider smooths open boundaries more "
+                    "Width of the boundary-curve fit: wider smooths open boundaries more "
                     "(and starts to round them).")
             .flag("feature_aware_fidelity", &O::feature_aware_fidelity,
                   "Fidelity term that moves vertices only along sharp edges and not at corners (a clean CAD part stays "

@@ -3,7 +3,6 @@
 // similarity weight (Yadav et al. 2019, eq. 1-2).
 #include <vector>
 
-#include "scanmesh/boundary_curves.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/packed_rows.h"
@@ -71,12 +70,5 @@ Adjacency face_neighbourhoods(const Topology& topology, const FaceGeometry& geom
 PackedRows packed_face_neighbourhoods(const Topology& topology, const FaceGeometry& geometry, double radius,
                                       NeighbourhoodKind kind, int max_size, std::size_t* capped = nullptr,
                                       bool spatially_ordered = false);
-
-/// Filters the in-surface outward normals m_e = normalize(edge x n~_face) of the boundary edges along
-/// each loop with the same robust bilateral weights as stage 1 (closeness on midpoint distance with
-/// sigma = mean boundary edge length, out to `window` of them: the boundary's own width, boundary_window).
-void filter_boundary_normals(const std::vector<Vec3>& positions, BoundaryCurves& curves,
-                             const std::vector<Vec3>& filtered_face_normals, double sigma_s,
-                             RobustEstimator estimator, double window);
 
 }  // namespace scanmesh
