@@ -73,11 +73,12 @@ int main(int argc, char** argv) {
     eb /= static_cast<double>(std::max<std::size_t>(nb, 1));
     ei /= static_cast<double>(std::max<std::size_t>(ni, 1));
     if (std::getenv("SPLIT")) {  // hemisphere only: radial and z error of boundary vertices
-      double rad = 0.0, z = 0.0;
+      double rad = 0.0, z = 0.0, sz = 0.0;
       for (std::size_t v = 0; v < clean.num_vertices(); ++v)
         if (t.boundary_vertex[v]) {
           rad += m->positions[v].norm() - 1.0;
           z += std::abs(m->positions[v].z() - clean.positions[v].z());
+          sz += m->positions[v].z() - clean.positions[v].z();
         }
       double absr = 0.0, fb = 0.0, fi = 0.0;
       std::size_t cb = 0, ci = 0;
@@ -93,8 +94,8 @@ int main(int argc, char** argv) {
           ++ci;
         }
       }
-      std::printf("  boundary mean(r-1) %.5f |r-1| %.5f |dz| %.5f; MSAE boundary faces %.3f interior %.3f\n", rad / nb,
-                  absr / nb, z / nb, fb / cb, fi / ci);
+      std::printf("  boundary mean(r-1) %.5f |r-1| %.5f |dz| %.5f dz %.5f; MSAE boundary faces %.3f interior %.3f\n", rad / nb,
+                  absr / nb, z / nb, sz / nb, fb / cb, fi / ci);
     }
     double lc = 0.0, lm = 0.0;
     for (const auto& loop : t.boundary_loops) {

@@ -93,3 +93,29 @@ TEST(BoundaryCurves, ANoisyCircleStaysACircleOfTheSameRadius) {
   EXPECT_NEAR(mean, radius, 0.002);  // no shrinkage
   EXPECT_LT(spread, 0.01);           // the jitter is gone (it was up to ~0.03)
 }
+
+TEST(BoundaryCurves, VerticesMoveAcrossTheCurveNotAlongIt) {
+  // The fit's target along the curve is set by each vertex's own noisy arc length, so a move along the
+  // curve is a random step; over many iterations those steps walk the boundary vertices away from where
+  // they were measured. A rim jittered in every direction: each move must be across the chord of the
+  // vertex's two curve neighbours.
+  Mesh m = test::make_cap(12, 64, 1.2);
+  const Topology t = build_topology(m);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> jitter(0.0, 0.01);
+  for (std::size_t v = 0; v < m.num_vertices(); ++v)
+    if (t.boundary_vertex[v]) m.positions[v] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  const BoundaryCurves c = build_boundary_curves(m, t);
+  const std::vector<Vec3> before = m.positions;
+  smooth_boundary_curves(m.positions, m.faces, t, c, 2.0);
+  int moved = 0;
+  for (std::size_t v = 0; v < m.num_vertices(); ++v) {
+    if (!t.boundary_vertex[v] || c.prev[v] < 0 || c.next[v] < 0) continue;
+    const Vec3 move = m.positions[v] - before[v];
+    if (move.norm() < 1e-9) continue;
+    ++moved;
+    const Vec3 chord = (before[c.next[v]] - before[c.prev[v]]).normalized();
+    EXPECT_NEAR(move.dot(chord), 0.0, 1e-12 + 1e-9 * move.norm()) << "vertex " << v;
+  }
+  EXPECT_GT(moved, 32);  // the fit did move most of the 64 rim vertices
+}

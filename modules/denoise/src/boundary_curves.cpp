@@ -232,6 +232,14 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
         // (straightening a jagged scan boundary would otherwise flatten the triangles behind it).
         const Vec3 start = positions[v[i]];
         Vec3 move = fitted - start;
+        // Only the move across the curve is taken. Along it the fit's target is where the vertex's own
+        // (noisy) arc length puts it, so that part is a random step, and over a hundred iterations the
+        // steps add up to a walk along the boundary (on the noisy hemisphere its vertices ended 19% farther
+        // from their clean positions than interior ones did). Spacing along the curve is update_vertices'
+        // job. A fitted vertex has neighbours on both sides (the fit needs support on both).
+        const Vec3 chord = positions[v[(i + 1) % nv]] - positions[v[(i + nv - 1) % nv]];
+        const double chord_len = chord.norm();
+        if (chord_len > 0.0) move -= move.dot(chord / chord_len) * (chord / chord_len);
         for (int attempt = 0; attempt < 4; ++attempt, move *= 0.5) {
           bool ok = true;
           for (const int* f = topology.vertex_faces.begin(v[i]); ok && f != topology.vertex_faces.end(v[i]); ++f) {

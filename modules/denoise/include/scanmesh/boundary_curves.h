@@ -30,10 +30,9 @@ struct BoundaryCurves {
   /// staircase of a depth-camera scan) that no curve describes them; such vertices are treated like
   /// interior ones, as in the paper.
   std::vector<std::uint8_t> ragged;
-  std::vector<Vec3> normals;  ///< per edge: filtered in-surface outward normal (filter_boundary_normals)
 };
 
-/// Windows along a boundary loop (the boundary normal filter, the curve fit) reach at most this many edges
+/// Windows along a boundary loop (the curve fit) reach at most this many edges
 /// each way. A uniform loop needs ~3 x boundary_window (<= 30); a loop of many tiny edges and a few long
 /// ones (whose mean edge, hence window, spans thousands of tiny edges) would otherwise cost O(n^2).
 inline constexpr int kBoundaryWindowMaxEdges = 64;
@@ -45,7 +44,8 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 /// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
 /// width in mean boundary edge lengths, at most kBoundaryWindowMaxEdges each way) that reproduces lines
 /// and circles, so the boundary does not shrink, and does not smooth across corners (which stay for
-/// update_vertices). A move that would turn one of the vertex's triangles by more than 45 degrees or make
+/// update_vertices). Each vertex moves across the curve only (towards the fit, less its part along the
+/// chord of its two curve neighbours): spacing along the curve is update_vertices' job. A move that would turn one of the vertex's triangles by more than 45 degrees or make
 /// its shape (circumradius / shortest edge) worse than 1.5 is halved, up to three times, then dropped:
 /// straightening a jagged scan boundary must not flatten the triangles behind it.
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
