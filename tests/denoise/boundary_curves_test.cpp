@@ -119,11 +119,10 @@ TEST(BoundaryCurves, VerticesMoveAcrossTheCurveNotAlongIt) {
   }
   EXPECT_GT(moved, 32);  // the fit did move most of the 64 rim vertices
 
-  // Outliers of impulsive noise are off along the curve by their impulse: flagged, they take the whole
-  // move, along the curve too.
+  // Under impulsive noise the vertices that move are off along the curve by their impulse: they take the
+  // whole move, along the curve too.
   std::vector<Vec3> free = before;
-  const std::vector<std::uint8_t> outliers(m.num_vertices(), 1);
-  smooth_boundary_curves(free, m.faces, t, c, 2.0, &outliers);
+  smooth_boundary_curves(free, m.faces, t, c, 2.0, true);
   double along = 0.0;
   for (std::size_t v = 0; v < m.num_vertices(); ++v)
     if (t.boundary_vertex[v] && c.prev[v] >= 0 && c.next[v] >= 0)

@@ -120,7 +120,7 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 }
 
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
-                            const BoundaryCurves& curves, double window, const std::vector<std::uint8_t>* free_along) {
+                            const BoundaryCurves& curves, double window, bool along_too) {
   // Local quadratic least-squares fit of each loop as a function of arc length (a Savitzky-Golay filter):
   // it removes noise along the curve but reproduces lines and circles, so nothing shrinks; a fit never
   // reaches past a corner, and corners themselves are left to update_vertices.
@@ -236,13 +236,14 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
         // (noisy) arc length puts it, so that part is a random step, and over a hundred iterations the
         // steps add up to a walk along the boundary (on the noisy hemisphere its vertices ended 19% farther
         // from their clean positions than interior ones did). Spacing along the curve is update_vertices'
-        // job. A fitted vertex has neighbours on both sides (the fit needs support on both). An outlier of
-        // impulsive noise (free_along) is off along the curve by its impulse, not by noise: it takes the
-        // whole move.
+        // job. A fitted vertex has neighbours on both sides (the fit needs support on both). Under impulsive
+        // noise (along_too) a vertex that moves is off along the curve by its impulse: it takes the whole move.
         const Vec3 chord = positions[v[(i + 1) % nv]] - positions[v[(i + nv - 1) % nv]];
         const double chord_len = chord.norm();
-        if (chord_len > 0.0 && (free_along == nullptr || (*free_along)[v[i]] == 0))
-          move -= move.dot(chord / chord_len) * (chord / chord_len);
+        if (!along_too && chord_len > 0.0) {
+          const Vec3 along = chord / chord_len;
+          move -= move.dot(along) * along;
+        }
         for (int attempt = 0; attempt < 4; ++attempt, move *= 0.5) {
           bool ok = true;
           for (const int* f = topology.vertex_faces.begin(v[i]); ok && f != topology.vertex_faces.end(v[i]); ++f) {

@@ -280,13 +280,6 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
       for (std::size_t v = 0; v < jump.size(); ++v) fixed[v] = jump[v] >= 0.0 && jump[v] <= limit ? 1 : 0;
     }
   }
-  // Vertices that may move (outliers, and boundary vertices, which the jump test cannot judge) are off by
-  // impulses, not by noise: the boundary curve fit moves them along the curve too.
-  std::vector<std::uint8_t> moving;
-  if (boundary && !fixed.empty()) {
-    moving.resize(fixed.size());
-    for (std::size_t v = 0; v < fixed.size(); ++v) moving[v] = fixed[v] ? 0 : 1;
-  }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.
   const double target = options.target_displacement * mean_edge_length(mesh, topology);
   // From here on only vertex_faces and the boundary flags of the topology are needed (and face_faces for
@@ -345,7 +338,10 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
                     options.feature_aware_fidelity, updated, lean ? &mesh.faces : nullptr);
     positions.swap(updated);
     if (boundary)
-      smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window, moving.empty() ? nullptr : &moving);
+      // Under impulsive noise the vertices that move (outliers, and boundary vertices, which the jump test
+      // cannot judge) are off by impulses, not by noise, so the curve fit moves them along the curve too;
+      // the fixed ones are put back below whatever the fit did.
+      smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window, !fixed.empty());
     if (!fixed.empty())
       for (std::size_t v = 0; v < positions.size(); ++v)
         if (fixed[v]) positions[v] = mesh.positions[v];

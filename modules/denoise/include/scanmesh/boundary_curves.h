@@ -45,12 +45,12 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 /// width in mean boundary edge lengths, at most kBoundaryWindowMaxEdges each way) that reproduces lines
 /// and circles, so the boundary does not shrink, and does not smooth across corners (which stay for
 /// update_vertices). Each vertex moves across the curve only (towards the fit, less its part along the
-/// chord of its two curve neighbours): spacing along the curve is update_vertices' job. Vertices flagged in
-/// `free_along` (the outliers of impulsive noise) take the whole move. A move that would turn one of the vertex's triangles by more than 45 degrees or make
+/// chord of its two curve neighbours): spacing along the curve is update_vertices' job. With `along_too`
+/// (impulsive noise: the vertices that move are off by impulses, not by noise) moves are taken whole. A
+/// move that would turn one of the vertex's triangles by more than 45 degrees or make
 /// its shape (circumradius / shortest edge) worse than 1.5 is halved, up to three times, then dropped:
 /// straightening a jagged scan boundary must not flatten the triangles behind it.
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
-                            const BoundaryCurves& curves, double window,
-                            const std::vector<std::uint8_t>* free_along = nullptr);
+                            const BoundaryCurves& curves, double window, bool along_too = false);
 
 }  // namespace scanmesh
