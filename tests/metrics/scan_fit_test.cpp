@@ -58,6 +58,30 @@ TEST(ScanFit, AHoleWherePointsWereIsAProblemAndAGapWithoutPointsIsNot) {
   EXPECT_TRUE(scan_fit_problems(gap).empty());
 }
 
+TEST(ScanFit, PointsTheMeshCoversBesideAGapDoNotMakeItAHole) {
+  const Mesh g = test::make_grid(30);
+  const Mesh holed = punch(g, 10.5, 19.5);  // a 10 x 10 opening, edges at x, y = 10 and 20
+  std::vector<Vec3> seen;
+  for (const Vec3& p : g.positions)
+    if (!(p.x() > 10.5 && p.x() < 19.5 && p.y() > 10.5 && p.y() < 19.5)) seen.push_back(p);
+  // Noise beside the rim: points inside the opening, within the coverage radius (2) of the mesh, one of
+  // them within 1.5 of the probe halfway from the centroid to a corner (12.5, 12.5).
+  seen.push_back(Vec3(11.3, 12.5, 0.4));
+  seen.push_back(Vec3(18.9, 16.0, -0.3));
+  const ScanFit f = measure_scan_fit(holed, seen, 1.0);
+  EXPECT_EQ(f.points_left_out, 0u);
+  EXPECT_EQ(f.holes, 0u);
+  ASSERT_EQ(f.gaps, 1u);
+  bool beside = false;
+  for (const auto& l : f.loops) beside = beside || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside);
+  EXPECT_TRUE(beside);
+  // One point deeper inside, left out: now measured surface is missing there.
+  seen.push_back(Vec3(12.6, 12.4, 0.0));
+  const ScanFit h = measure_scan_fit(holed, seen, 1.0);
+  EXPECT_EQ(h.points_left_out, 1u);
+  EXPECT_EQ(h.holes, 1u);
+}
+
 TEST(ScanFit, DistancesAreInSceneUnits) {
   const Mesh g = test::make_grid(10);
   std::vector<Vec3> pts = points_of(g);

@@ -15,12 +15,18 @@
 namespace scanmesh {
 namespace {
 
+// The loops mesh.auto holds against a mesh: holes (points left out inside) and gaps with covered points
+// beside them off the mesh (see BoundaryLoopFit::points_beside), as long as the limits count.
+bool held_open(const BoundaryLoopFit& l, double spacing, const ScanFitLimits& limits) {
+  const bool open = l.kind == BoundaryLoopFit::Kind::hole || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside);
+  return open && l.perimeter >= limits.min_hole_perimeter * spacing;
+}
+
 // How far a mesh falls short of representing the points: percentage points of coverage below the limit,
-// plus one for every hole the limits count. 0 = nothing wrong.
+// plus one for every loop held open. 0 = nothing wrong.
 double shortfall(const ScanFit& fit, const ScanFitLimits& limits) {
   double s = std::max(0.0, limits.min_coverage - fit.coverage) * 100.0;
-  for (const auto& l : fit.loops)
-    s += l.kind == BoundaryLoopFit::Kind::hole && l.perimeter >= limits.min_hole_perimeter * fit.spacing ? 1.0 : 0.0;
+  for (const auto& l : fit.loops) s += held_open(l, fit.spacing, limits) ? 1.0 : 0.0;
   return s;
 }
 
@@ -33,11 +39,14 @@ std::vector<Vec3> finite_points(const PointCloud& cloud) {
 }
 
 std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
-  std::size_t big = 0;
-  for (const auto& l : f.loops) big += l.kind == BoundaryLoopFit::Kind::hole && l.perimeter >= limits.min_hole_perimeter * f.spacing ? 1 : 0;
+  std::size_t holes = 0, beside = 0;
+  for (const auto& l : f.loops)
+    if (held_open(l, f.spacing, limits)) (l.kind == BoundaryLoopFit::Kind::hole ? holes : beside) += 1;
   char b[160];
-  std::snprintf(b, sizeof b, "covers %.1f%% of the points, %zu hole%s", 100.0 * f.coverage, big, big == 1 ? "" : "s");
-  return b;
+  std::snprintf(b, sizeof b, "covers %.1f%% of the points, %zu hole%s", 100.0 * f.coverage, holes, holes == 1 ? "" : "s");
+  std::string out = b;
+  if (beside > 0) out += " and " + std::to_string(beside) + " gap" + (beside == 1 ? "" : "s") + " with points beside";
+  return out;
 }
 
 // Above this share of points with opposed normals, mesh.auto also tries Poisson on propagated normals.
@@ -70,13 +79,14 @@ double opposed_normal_share(const PointCloud& cloud, double spacing) {
   return static_cast<double>(opposed) / static_cast<double>(points.size());
 }
 
-// Closes the loops `fit` calls holes (measured points inside: a meshing failure, not a gap in the scan).
+// Closes the loops held open (points inside left out, or beside them: a meshing failure, not a gap in the
+// scan; loops too short to count are closed as well).
 // A patch stays only where it lies on the data: every one of its faces' centroids within `trim` of an
 // input point, the rule that trims Poisson's surface. Returns the number of holes closed.
 std::size_t fill_scan_holes(Mesh& mesh, const ScanFit& fit, const std::vector<Vec3>& points, double trim) {
   std::vector<std::vector<int>> rings;
   for (const auto& l : fit.loops)
-    if (l.kind == BoundaryLoopFit::Kind::hole) rings.push_back(l.ring);
+    if (l.kind == BoundaryLoopFit::Kind::hole || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside)) rings.push_back(l.ring);
   if (rings.empty()) return 0;
   std::vector<FilledHole> patches = fill_holes(mesh, rings);
   std::vector<Vec3> centroids;

@@ -9,6 +9,7 @@
 
 #include "scanmesh/closest_point.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/nearest_points.h"
 #include "scanmesh/neighbourhoods.h"
 #include "scanmesh/topology.h"
 
@@ -124,9 +125,11 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
 
   // Boundary loops: the longest of each piece is its rim; another loop is a gap when the region it
   // encloses holds no points (the scanner saw nothing there), else a hole the meshing left. The region is
-  // probed at the loop's centroid and halfway from there to each corner: a probe with an input point
-  // within 1.5 spacings that the mesh does not cover means measured surface inside the loop. A loop too
-  // small to enclose an empty region (every probe within 1.5 spacings of a point) is a hole as well.
+  // probed at the loop's centroid and halfway from there to each corner: a probe within 1.5 spacings of a
+  // point that the mesh leaves out (farther than the coverage radius from it) means measured surface
+  // inside the loop. A loop too small to enclose an empty region (every probe within 1.5 spacings of a
+  // point) is a hole as well. A gap whose probe lies off the mesh beside a point the mesh covers is marked
+  // `points_beside`: noise beside the surface, or a sparsely sampled curve the loop cuts across.
   const Topology topo = build_topology(mesh);
   fit.inconsistent_edges = topology_stats(mesh).inconsistent_edges;
   std::vector<int> rim_of_piece(fit.pieces, -1);
@@ -162,7 +165,22 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     for (std::size_t k = 0; k < loop.size(); k += step) probes.push_back(0.5 * (c + mesh.positions[loop[k]]));
   }
   probe_start[fit.loops.size()] = probes.size();
-  const std::vector<double> to_points = nearest_point_distances(finite, probes);
+  // Each probe's points within 1.5 spacings: is there one, and is one of them left out.
+  std::vector<char> near_point(probes.size(), 0), near_left_out(probes.size(), 0);
+  if (!probes.empty()) {
+    const NearestPoints index(finite);
+    const auto n = static_cast<long>(probes.size());
+#pragma omp parallel for schedule(dynamic, 64)
+    for (long k = 0; k < n; ++k) {
+      thread_local std::vector<int> near;
+      index.nearest(probes[k], 16, near);
+      for (int j : near) {
+        if ((finite[j] - probes[k]).norm() > 1.5 * spacing) continue;
+        near_point[k] = 1;
+        if (fit.point_distance[j] > fit.coverage_radius) near_left_out[k] = 1;
+      }
+    }
+  }
   const ClosestPointIndex surface(mesh);
   for (std::size_t i = 0; i < fit.loops.size(); ++i) {
     BoundaryLoopFit& b = fit.loops[i];
@@ -178,9 +196,8 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     }
     bool data_inside = false, all_near = true;
     for (std::size_t k = probe_start[i]; k < probe_start[i + 1]; ++k) {
-      const bool near_point = to_points[k] <= 1.5 * spacing;
-      all_near = all_near && near_point;
-      if (near_point && surface.closest(probes[k]).distance > 0.5 * spacing) data_inside = true;
+      all_near = all_near && near_point[k];
+      data_inside = data_inside || near_left_out[k];
     }
     if (data_inside || all_near) {
       b.kind = BoundaryLoopFit::Kind::hole;
@@ -189,6 +206,8 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     } else {
       b.kind = BoundaryLoopFit::Kind::gap;
       ++fit.gaps;
+      for (std::size_t k = probe_start[i]; k < probe_start[i + 1] && !b.points_beside; ++k)
+        b.points_beside = near_point[k] && surface.closest(probes[k]).distance > 0.5 * spacing;
     }
   }
   return fit;

@@ -16,12 +16,16 @@ struct BoundaryLoopFit {
   enum class Kind {
     rim,   ///< the longest loop of an open piece: the edge of what the scanner saw
     gap,   ///< encloses a region without points: the scan saw nothing there
-    hole,  ///< encloses measured points (or is too small to be a gap in the data): a meshing failure
+    hole,  ///< encloses points the mesh leaves out (or is too small to be a gap in the data): a meshing failure
   };
   Kind kind = Kind::rim;
   double perimeter = 0.0;  ///< scene units
   std::size_t vertices = 0;
   std::vector<int> ring;   ///< its vertices in boundary order (against the orientation of the faces on it)
+  /// Gaps only: inside the loop, off the mesh, lie points the mesh covers (within the coverage radius):
+  /// noise beside the surface, or a sparsely sampled curve the loop cuts across, which a mesh through
+  /// the points might have closed. Nothing the scan measured is left out.
+  bool points_beside = false;
 };
 
 struct ScanFit {
