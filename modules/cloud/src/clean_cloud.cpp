@@ -164,9 +164,16 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
     n[i] = Vec3(q.normal_x, q.normal_y, q.normal_z);
     if (!n[i].allFinite() || n[i].norm() < 0.5) n[i] = Vec3::Zero();
   }
-  const Adjacency knn = knn_neighbourhoods(pts, std::min<int>(o.neighbours, static_cast<int>(pts.size()) - 1));
+  // Both steps below read each point's nearest neighbours; most clouds need neither (no degenerate
+  // neighbourhood, orientation from the sensor), so the table (a second k-nearest search over every point)
+  // is built only when one of them runs.
+  const bool degenerate = std::any_of(n.begin(), n.end(), [](const Vec3& v) { return v.isZero(); });
+  const bool have_hints = cloud.has_normals() && cloud.normals.size() == cloud.size() && cloud.normals_oriented;
+  const bool propagate = o.orient && !cloud.sensor_origin && !have_hints;
+  const Adjacency knn = degenerate || propagate ? knn_neighbourhoods(pts, std::min<int>(o.neighbours, static_cast<int>(pts.size()) - 1))
+                                                : Adjacency{};
   // Points whose neighbourhood was degenerate borrow the nearest valid normal.
-  for (std::size_t i = 0; i < pts.size(); ++i)
+  for (std::size_t i = 0; i < pts.size() && degenerate; ++i)
     if (n[i].isZero())
       for (const int* j = knn.begin(i); j != knn.end(i); ++j)
         if (!n[*j].isZero()) {
@@ -174,14 +181,13 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
           break;
         }
   // Normals already in the cloud (from the scanner or its software) tell which side is out: agree with them.
-  const bool have_hints = cloud.has_normals() && cloud.normals.size() == cloud.size() && cloud.normals_oriented;
   if (o.orient && have_hints) {
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const Vec3& hint = cloud.normals[index[i]];
       if (hint.allFinite() && n[i].dot(hint) < 0.0) n[i] = -n[i];
     }
   }
-  if (o.orient && !cloud.sensor_origin && !have_hints) {
+  if (propagate) {
     // Hoppe-style propagation: grow from the highest point (normal turned up), always taking next the
     // neighbour whose normal is most parallel to an oriented one, flipping it to agree.
     // Connected parts of the kNN graph (treated as undirected), each started at its highest point.
