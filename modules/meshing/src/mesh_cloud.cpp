@@ -15,11 +15,15 @@
 namespace scanmesh {
 namespace {
 
-// The loops mesh.auto holds against a mesh: holes (points left out inside) and gaps with covered points
-// beside them off the mesh (see BoundaryLoopFit::points_beside), as long as the limits count.
+// The loops mesh.auto holds against a mesh and closes: holes (points left out inside) and gaps with
+// covered points beside them off the mesh (see BoundaryLoopFit::points_beside).
+bool open_loop(const BoundaryLoopFit& l) {
+  return l.kind == BoundaryLoopFit::Kind::hole || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside);
+}
+
+// An open loop long enough for the limits to count it.
 bool held_open(const BoundaryLoopFit& l, double spacing, const ScanFitLimits& limits) {
-  const bool open = l.kind == BoundaryLoopFit::Kind::hole || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside);
-  return open && l.perimeter >= limits.min_hole_perimeter * spacing;
+  return open_loop(l) && l.perimeter >= limits.min_hole_perimeter * spacing;
 }
 
 // How far a mesh falls short of representing the points: percentage points of coverage below the limit,
@@ -86,7 +90,7 @@ double opposed_normal_share(const PointCloud& cloud, double spacing) {
 std::size_t fill_scan_holes(Mesh& mesh, const ScanFit& fit, const std::vector<Vec3>& points, double trim) {
   std::vector<std::vector<int>> rings;
   for (const auto& l : fit.loops)
-    if (l.kind == BoundaryLoopFit::Kind::hole || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside)) rings.push_back(l.ring);
+    if (open_loop(l)) rings.push_back(l.ring);
   if (rings.empty()) return 0;
   std::vector<FilledHole> patches = fill_holes(mesh, rings);
   std::vector<Vec3> centroids;

@@ -165,7 +165,8 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     for (std::size_t k = 0; k < loop.size(); k += step) probes.push_back(0.5 * (c + mesh.positions[loop[k]]));
   }
   probe_start[fit.loops.size()] = probes.size();
-  // Each probe's points within 1.5 spacings: is there one, and is one of them left out.
+  // Each probe's points within 1.5 spacings: is there one, and is one of them left out. Only the 16
+  // nearest are looked at, so a pile of coincident points costs each probe no more than that.
   std::vector<char> near_point(probes.size(), 0), near_left_out(probes.size(), 0);
   if (!probes.empty()) {
     const NearestPoints index(finite);
