@@ -57,18 +57,21 @@ struct Outcome {
   int it = 0;
 };
 
-// Walks a curve like the real run: the result check (turned faces) undoes a checkpoint and stops; the
-// discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
+// Walks a curve like the real run: a checkpoint the result check (turned surface) fails is not kept, and
+// the run goes on; the discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
 template <class Probe>
 const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, double target, int cap, Probe probe,
                        bool& probed_out) {
   const Checkpoint* last = nullptr;
-  const double allowed = std::max(static_cast<double>(p.input_turned), r.turned_slack * static_cast<double>(p.faces));
+  // Grids with the turned area replay the shipped check exactly; older ones by counting faces.
+  const bool by_area = p.input_turned_area >= 0.0;
+  const double allowed = by_area ? std::max(p.input_turned_area, r.turned_slack)
+                                 : std::max(static_cast<double>(p.input_turned), r.turned_slack * static_cast<double>(p.faces));
   probed_out = false;
   for (const Checkpoint& c : curve) {
     if (c.it > cap) break;
-    if (static_cast<double>(c.turned) > allowed) break;  // the check undoes this step
-    last = &c;
+    // As the real run: a failing step is not kept, but the run goes on (a later step may pass again).
+    if (!((by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed)) last = &c;
     if (target > 0.0 && c.ndisp >= target) break;
     if (!probe(c)) {
       probed_out = true;

@@ -105,6 +105,23 @@ int main(int argc, char** argv) {
         }
         smooth_normals = pg.normals;
       }
+      // What the shipped result check compares with (auto_denoise.cpp): the share of the surface, by
+      // area, turned against the same smoothed input.
+      const std::vector<Vec3> reference = prefiltered_normals(pair.noisy, 3.0, 2.0, 4);
+      auto turned_area = [&](const FaceGeometry& at) {
+        double turned = 0.0, total = 0.0;
+        for (std::size_t f = 0; f < at.normals.size(); ++f) {
+          total += at.areas[f];
+          turned += at.normals[f].dot(reference[f]) < 0.0 ? at.areas[f] : 0.0;
+        }
+        return total > 0.0 ? turned / total : 0.0;
+      };
+      double input_turned_area = 0.0;
+      {
+        FaceGeometry pg;
+        compute_face_geometry(pair.noisy.positions, pair.noisy.faces, pg);
+        input_turned_area = turned_area(pg);
+      }
       std::size_t input_smooth_flips = 0;
       for (std::size_t f = 0; f < raw_normals.size(); ++f) input_smooth_flips += raw_normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
       for (double r : radii)
@@ -148,15 +165,29 @@ int main(int argc, char** argv) {
                 sharp[2] += c < 0.7071068 ? 1 : 0;
               }
               for (double& x : sharp) x /= static_cast<double>(std::max<std::size_t>(1, manifold));
+              // Soft creases (20-45 degrees) counted and weighted by the smaller face area of each edge
+              // (analysis columns: --auto counts them).
+              double soft = 0.0, soft_area = 0.0, edge_area = 0.0;
+              for (std::size_t e = 0; e < topo.edges.size(); ++e) {
+                if (topo.edge_faces.size(e) != 2) continue;
+                const int fa = topo.edge_faces.begin(e)[0], fb = topo.edge_faces.begin(e)[1];
+                const double c = cg.normals[fa].dot(cg.normals[fb]), w = std::min(cg.areas[fa], cg.areas[fb]);
+                const bool is_soft = c < 0.9396926 && c >= 0.7071068;
+                soft += is_soft ? 1.0 : 0.0;
+                soft_area += is_soft ? w : 0.0;
+                edge_area += w;
+              }
+              soft /= static_cast<double>(std::max<std::size_t>(1, manifold));
+              soft_area = edge_area > 0.0 ? soft_area / edge_area : 0.0;
               std::size_t flips_raw = 0, flips_smooth = 0;
               for (std::size_t f = 0; f < cg.normals.size(); ++f) {
                 flips_raw += cg.normals[f].dot(raw_normals[f]) < 0.0 ? 1 : 0;
                 flips_smooth += cg.normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
               }
-              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu\n", pair.model.c_str(),
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu,%.5f,%.5f,%.6g,%.6g\n", pair.model.c_str(),
                           pair.variant.c_str(), s, l, r, 0.0, 0.0, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)),
                           std::sqrt(d2 / std::max<std::size_t>(1, count)), -ou, sharp[0], sharp[1], sharp[2], flips_raw, flips_smooth,
-                          input_smooth_flips);
+                          input_smooth_flips, soft, soft_area, turned_area(cg), input_turned_area);
               return true;
             });
           }

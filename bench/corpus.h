@@ -30,7 +30,10 @@ struct Model {
   int subdivisions = 0;
   /// Cross-validation group (Pair::model): a dense version is held back with its coarse original.
   std::string group;
+  /// Made in code instead of read from `clean` (test::make_zippered_cylinder, tests/helpers.h).
+  bool generated = false;
 };
+
 
 /// One step of Loop subdivision (Loop 1987): every triangle into four, new edge points 3/8 + 3/8 + 1/8 +
 /// 1/8 of the edge's ends and opposite corners, old vertices moved by Warren's weights; on boundaries

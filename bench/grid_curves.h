@@ -11,6 +11,8 @@ struct Checkpoint {
   int it = 0;
   double msae = 0.0, ndisp = 0.0, s20 = 0.0, s45 = 0.0;
   long flips = 0, turned = 0;
+  double soft = -1.0, soft_by_area = -1.0;  ///< soft creases (20-45 deg) by count and by area (-1: not in the file)
+  double turned_area = -1.0;  ///< share of the area turned against the smoothed input, as --auto's check (-1: not in the file)
 };
 
 struct PairData {
@@ -20,6 +22,7 @@ struct PairData {
   long noisy_flips = 0;
   double level = 0.0, isolated = 0.0, plane = 0.0, edge = 0.0, jmed = 0.0, jrms = 0.0, jtrim = 0.0;
   long input_turned = 0;
+  double input_turned_area = -1.0;
   std::map<std::string, std::vector<Checkpoint>> curves;  // "sigma/lambda/radius/outlier"
 };
 

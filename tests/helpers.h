@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -104,6 +105,74 @@ inline Mesh make_cap(int rings, int sectors, double theta_max) {
       m.faces.push_back({id(r, k), id(r + 1, k + 1 - shift), id(r, k + 1)});
       m.faces.push_back({id(r + 1, k + 1 - shift), id(r, k), id(r + 1, k - shift)});
     }
+  return m;
+}
+
+/// A closed CAD-like cylinder (radius 1, height 2, flat caps) whose side is tessellated coarsely (48
+/// sectors) except for two bands ten times finer in both directions, joined to the coarse rings by zipper
+/// strips of slivers: the locally refined tessellation CAD exporters make around details.
+inline Mesh make_zippered_cylinder() {
+  constexpr double kPi = 3.14159265358979323846;
+  Mesh m;
+  struct Ring {
+    int start, count;
+    double shift;  // in steps: alternate rings are offset by half a step, so triangles are not right-angled
+  };
+  auto add_ring = [&](double z, double radius, int count, double shift) {
+    const Ring r{static_cast<int>(m.positions.size()), count, shift};
+    for (int k = 0; k < count; ++k) {
+      const double a = 2.0 * kPi * (k + shift) / count;
+      m.positions.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
+    }
+    return r;
+  };
+  // Joins two rings by walking both in angle order (a zipper): rings of different counts give slivers.
+  auto zip = [&](const Ring& a, const Ring& b, bool flip) {
+    int i = 0, j = 0;
+    auto angle = [](const Ring& r, int k) { return (k + r.shift) / r.count; };
+    while (i < a.count || j < b.count) {
+      Face f;
+      if (j >= b.count || (i < a.count && angle(a, i + 1) <= angle(b, j + 1))) {
+        f = {a.start + i % a.count, a.start + (i + 1) % a.count, b.start + j % b.count};
+        ++i;
+      } else {
+        f = {a.start + i % a.count, b.start + (j + 1) % b.count, b.start + j % b.count};
+        ++j;
+      }
+      if (flip) std::swap(f[1], f[2]);
+      m.faces.push_back(f);
+    }
+  };
+  const int coarse = 48, fine = 480;
+  const double coarse_step = 0.87 * 2.0 * kPi / coarse, fine_step = 0.87 * 2.0 * kPi / fine;
+  // Side: coarse, fine band, coarse, fine band, coarse (bottom to top).
+  const double bounds[] = {-1.0, -0.45, -0.35, 0.35, 0.45, 1.0};
+  std::vector<Ring> side;
+  for (int part = 0; part < 5; ++part) {
+    const bool is_fine = part % 2 == 1;
+    const double step = is_fine ? fine_step : coarse_step;
+    for (double z = bounds[part]; z < bounds[part + 1] - 1e-9; z += step)
+      side.push_back(add_ring(z, 1.0, is_fine ? fine : coarse, 0.5 * static_cast<double>(side.size() % 2)));
+  }
+  side.push_back(add_ring(1.0, 1.0, coarse, 0.5 * static_cast<double>(side.size() % 2)));
+  for (std::size_t r = 0; r + 1 < side.size(); ++r) zip(side[r], side[r + 1], false);
+  // Flat caps: concentric rings down to a centre vertex.
+  for (const bool top : {true, false}) {
+    Ring outer = top ? side.back() : side.front();
+    const double z = top ? 1.0 : -1.0;
+    for (const double radius : {0.75, 0.5, 0.25}) {
+      const Ring inner = add_ring(z, radius, std::max(6, static_cast<int>(std::lround(outer.count * radius / (radius + 0.25)))), outer.shift);
+      zip(outer, inner, !top);
+      outer = inner;
+    }
+    const int centre = static_cast<int>(m.positions.size());
+    m.positions.emplace_back(0.0, 0.0, z);
+    for (int k = 0; k < outer.count; ++k) {
+      Face f{outer.start + k, outer.start + (k + 1) % outer.count, centre};
+      if (!top) std::swap(f[1], f[2]);
+      m.faces.push_back(f);
+    }
+  }
   return m;
 }
 
