@@ -59,9 +59,11 @@ struct Outcome {
 
 // Walks a curve like the real run: a checkpoint the result check (turned surface) fails is not kept, and
 // the run goes on; the discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
+// With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
+// r.crease_fall x their share at the last checkpoint at or before half the iterations.
 template <class Probe>
 const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, double target, int cap, Probe probe,
-                       bool& probed_out) {
+                       bool& probed_out, bool while_falling = false) {
   const Checkpoint* last = nullptr;
   // Grids with the turned area replay the shipped check exactly; older ones by counting faces.
   const bool by_area = p.input_turned_area >= 0.0;
@@ -72,7 +74,13 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
     if (c.it > cap) break;
     // As the real run: a failing step is not kept, but the run goes on (a later step may pass again).
     if (!((by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed)) last = &c;
-    if (target > 0.0 && c.ndisp >= target) break;
+    if (target > 0.0 && c.ndisp >= target) {
+      const Checkpoint* half = nullptr;
+      if (while_falling && r.crease_fall > 0.0)
+        for (const Checkpoint& h : curve)
+          if (h.it >= 1 && h.it <= c.it / 2) half = &h;
+      if (!(half && c.s20 - c.s45 < r.crease_fall * (half->s20 - half->s45))) break;
+    }
     if (!probe(c)) {
       probed_out = true;
       break;
@@ -116,7 +124,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     return true;
   };
   const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
-  const Checkpoint* e = walk(*sharp, p, r, target, r.max_iterations, decide, stopped);
+  const Checkpoint* e = walk(*sharp, p, r, target, r.max_iterations, decide, stopped, true);
   if (creases < 0.0 && e) {  // the run ended before the first probe
     creases = e->s20 - e->s45;
     decided_smooth = creases > limit;
@@ -144,9 +152,11 @@ std::vector<Candidate> candidates() {
                 for (double ts : {0.8, 1.0, 1.5, 0.0})
                   for (double to : {0.45, 0.5, 0.55, 0.6})
                     for (double to_level : {0.0, 0.5, 0.75, 1.0})
-                    for (double slack : {1.0, 0.002}) {
+                    for (double slack : {1.0, 0.002})
+                      for (double fall : {0.0, 0.5, 0.7}) {
                       Candidate c;
                       AutoRules& r = c.rules;
+                      r.crease_fall = fall;
                       r.impulsive_share = imp;
                       r.outlier_jump = oj;
                       r.impulsive_iterations = ni;
@@ -231,9 +241,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level | turned slack %g\n",
+              "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way) | turned slack %g\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.turned_slack);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {

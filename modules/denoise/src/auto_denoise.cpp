@@ -14,9 +14,7 @@ namespace {
 
 // Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg]: soft creases.
 // Real features of machined parts are sharper; noise a feature-keeping filter locked in is not.
-double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, const Topology& topo, double min_deg, double max_deg) {
-  FaceGeometry g;
-  compute_face_geometry(positions, mesh.faces, g);
+double soft_crease_share(const FaceGeometry& g, const Topology& topo, double min_deg, double max_deg) {
   const double lo = std::cos(min_deg * 3.14159265358979323846 / 180.0), hi = std::cos(max_deg * 3.14159265358979323846 / 180.0);
   std::size_t soft = 0, manifold = 0;
   for (std::size_t e = 0; e < topo.edges.size(); ++e) {
@@ -26,6 +24,12 @@ double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, c
     soft += c < lo && c >= hi ? 1 : 0;
   }
   return manifold > 0 ? static_cast<double>(soft) / static_cast<double>(manifold) : 0.0;
+}
+
+double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, const Topology& topo, double min_deg, double max_deg) {
+  FaceGeometry g;
+  compute_face_geometry(positions, mesh.faces, g);
+  return soft_crease_share(g, topo, min_deg, max_deg);
 }
 
 // The share of the surface (by area) whose faces point against the reference normals: slivers (the
@@ -93,7 +97,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // (asked after every iteration) lifts it; the probe may also end the run.
   enum class Probe { go_on, stop, no_target };
   using ProbeFn = std::function<Probe(int, const std::vector<Vec3>&)>;
-  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe) {
+  // With `while_falling`, the target does not end the run while the soft creases are still falling fast
+  // (below rules.crease_fall x their share at half the iterations): the filter is still taking noise out.
+  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling) {
     const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
     const double target = opt.target_displacement * edge;
     bool target_on = target > 0.0, reached = false;
@@ -104,6 +110,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     int last_pass = 0;
     double last_turned = input_turned;
     FaceGeometry at;
+    std::vector<double> creases_at;  // by iteration (index 0: not measured)
+    const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
     DenoiseReport rep = denoise(m, inner, progress, [&](int it, const std::vector<Vec3>& pos) {
       compute_face_geometry(pos, m.faces, at);  // one pass for the check and the displacement
       const double turned = turned_area_share(at, reference);
@@ -115,9 +123,16 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         accepted = pos;
       }
       last_turned = turned;
+      if (track && target_on) {
+        creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
+        creases_at[it] = soft_crease_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+      }
       if (target_on && normal_displacement(topo, at, start, pos) >= target) {
-        reached = true;
-        return false;
+        const bool falling = track && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
+        if (!falling) {
+          reached = true;
+          return false;
+        }
       }
       const Probe next = probe ? probe(it, pos) : Probe::go_on;
       if (next == Probe::no_target) target_on = false;
@@ -153,7 +168,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     std::snprintf(line, sizeof line, "impulsive noise: %.1f%% of the vertices are isolated outliers; only those move",
                   100.0 * na.isolated_outlier_share);
     r.reason = line;
-    auto [rep, verdict] = checked_run(mesh, o, {});
+    auto [rep, verdict] = checked_run(mesh, o, {}, false);
     r.run = rep;
     r.check = verdict;
     r.options = o;
@@ -195,7 +210,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     clear = rules.clear_sharp_share > 0.0 && creases < rules.clear_sharp_share && !is_given("target_displacement");
     return clear ? Probe::no_target : Probe::go_on;
   };
-  auto [rep, verdict] = checked_run(trial, sharp, probe);
+  auto [rep, verdict] = checked_run(trial, sharp, probe, true);
   if (decide && creases < 0.0)  // ended before the probe
     creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
   r.crease_share = creases;
@@ -207,7 +222,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                   rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
     r.reason = line;
     r.probe_iterations = rep.iterations;
-    auto [rep2, verdict2] = checked_run(mesh, smooth, {});
+    auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false);
     r.run = rep2;
     r.check = verdict2;
     r.options = smooth;

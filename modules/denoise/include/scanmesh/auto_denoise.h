@@ -11,7 +11,9 @@
 //    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel.
 //    Either run stops by the discrepancy principle, once the vertices have moved about as far as the noise
 //    displaced them, except a clearly machined part (almost no soft creases at the probe), whose flat
-//    faces keep improving: it runs all iterations.
+//    faces keep improving: it runs all iterations. The feature-keeping run does not stop while its soft
+//    creases are still falling fast (less than half of what they were at half the iterations): the
+//    filter is still taking noise out there.
 // 5. The result is checked (no more of the surface turned against the smoothed input than the input
 //    itself has, by area; volume kept); the last iteration that passed is returned (the input if none).
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
@@ -49,6 +51,10 @@ struct AutoRules {
   /// every iteration runs (flat faces keep improving long after the noise-sized displacement). 0 = off.
   double clear_sharp_share = 0.008;
   double sharp_target = 0.8;      ///< discrepancy target, x the robust noise estimate, feature-keeping run
+  /// ...which does not end that run while its soft creases are still falling fast: below this share of
+  /// their value at half the iterations (the filter is still taking noise out, as on a part whose
+  /// slivers keep creases long after the noise-sized displacement). 0 = off.
+  double crease_fall = 0.5;
   double smooth_target = 0.5;     ///< the same for the wide-kernel run...
   /// ...plus this times the noise level: the wide kernel's best stop lies at a nearly constant share of the
   /// noise (0.73-0.80 on the corpus) except under weak noise, where the shape's own smoothing soon adds as
