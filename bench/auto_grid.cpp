@@ -13,11 +13,11 @@
 #include <sstream>
 
 #include "corpus.h"
+#include "scanmesh/auto_denoise.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/noise_analysis.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
-#include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"
 
 using namespace scanmesh;
@@ -89,38 +89,17 @@ int main(int argc, char** argv) {
                   pair.variant.c_str(), pair.kind.c_str(), pair.noisy.num_faces(), input.msae, input.flips, na.level,
                   na.isolated_outlier_share, na.exact_plane_fraction, na.mean_edge, na.median_jump, 0.0, na.rms_jump,
                   na.trimmed_rms_jump, 0.0, share[0], share[1], share[2], share[3]);
-      // Flip proxies: faces turned by more than 90 degrees from the input's normals, raw and smoothed (four
-      // passes of a wide normal filter): what --auto can check without ground truth.
-      std::vector<Vec3> raw_normals, smooth_normals;
-      {
-        FaceGeometry pg;
-        compute_face_geometry(pair.noisy.positions, pair.noisy.faces, pg);
-        raw_normals = pg.normals;
-        const double c_a = mean_centroid_distance(pair.noisy, topo, pg);
-        const Adjacency nbh = face_neighbourhoods(topo, pg, 3.0 * c_a, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
-        std::vector<Vec3> fn;
-        for (int pass = 0; pass < 4; ++pass) {
-          filter_face_normals(pg, nbh, c_a, 2.0, RobustEstimator::tukey, fn);
-          pg.normals = fn;
-        }
-        smooth_normals = pg.normals;
-      }
-      // What the shipped result check compares with (auto_denoise.cpp): the share of the surface, by
-      // area, turned against the same smoothed input.
-      const std::vector<Vec3> reference = prefiltered_normals(pair.noisy, 3.0, 2.0, 4);
-      auto turned_area = [&](const FaceGeometry& at) {
-        double turned = 0.0, total = 0.0;
-        for (std::size_t f = 0; f < at.normals.size(); ++f) {
-          total += at.areas[f];
-          turned += at.normals[f].dot(reference[f]) < 0.0 ? at.areas[f] : 0.0;
-        }
-        return total > 0.0 ? turned / total : 0.0;
-      };
+      // Flip proxies: faces turned by more than 90 degrees from the input's normals, raw and smoothed (the
+      // reference of --auto's result check, auto_denoise.cpp): what --auto can check without ground truth;
+      // and the turned share by area, the check itself.
+      const std::vector<Vec3> smooth_normals = prefiltered_normals(pair.noisy, 3.0, 2.0, 4);
+      std::vector<Vec3> raw_normals;
       double input_turned_area = 0.0;
       {
         FaceGeometry pg;
         compute_face_geometry(pair.noisy.positions, pair.noisy.faces, pg);
-        input_turned_area = turned_area(pg);
+        raw_normals = pg.normals;
+        input_turned_area = turned_area_share(pg, smooth_normals);
       }
       std::size_t input_smooth_flips = 0;
       for (std::size_t f = 0; f < raw_normals.size(); ++f) input_smooth_flips += raw_normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
@@ -165,29 +144,15 @@ int main(int argc, char** argv) {
                 sharp[2] += c < 0.7071068 ? 1 : 0;
               }
               for (double& x : sharp) x /= static_cast<double>(std::max<std::size_t>(1, manifold));
-              // Soft creases (20-45 degrees) counted and weighted by the smaller face area of each edge
-              // (analysis columns: --auto counts them).
-              double soft = 0.0, soft_area = 0.0, edge_area = 0.0;
-              for (std::size_t e = 0; e < topo.edges.size(); ++e) {
-                if (topo.edge_faces.size(e) != 2) continue;
-                const int fa = topo.edge_faces.begin(e)[0], fb = topo.edge_faces.begin(e)[1];
-                const double c = cg.normals[fa].dot(cg.normals[fb]), w = std::min(cg.areas[fa], cg.areas[fb]);
-                const bool is_soft = c < 0.9396926 && c >= 0.7071068;
-                soft += is_soft ? 1.0 : 0.0;
-                soft_area += is_soft ? w : 0.0;
-                edge_area += w;
-              }
-              soft /= static_cast<double>(std::max<std::size_t>(1, manifold));
-              soft_area = edge_area > 0.0 ? soft_area / edge_area : 0.0;
               std::size_t flips_raw = 0, flips_smooth = 0;
               for (std::size_t f = 0; f < cg.normals.size(); ++f) {
                 flips_raw += cg.normals[f].dot(raw_normals[f]) < 0.0 ? 1 : 0;
                 flips_smooth += cg.normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
               }
-              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu,%.5f,%.5f,%.6g,%.6g\n", pair.model.c_str(),
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu,%.6g,%.6g\n", pair.model.c_str(),
                           pair.variant.c_str(), s, l, r, 0.0, 0.0, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)),
                           std::sqrt(d2 / std::max<std::size_t>(1, count)), -ou, sharp[0], sharp[1], sharp[2], flips_raw, flips_smooth,
-                          input_smooth_flips, soft, soft_area, turned_area(cg), input_turned_area);
+                          input_smooth_flips, turned_area_share(cg, smooth_normals), input_turned_area);
               return true;
             });
           }

@@ -34,7 +34,6 @@ struct Model {
   bool generated = false;
 };
 
-
 /// One step of Loop subdivision (Loop 1987): every triangle into four, new edge points 3/8 + 3/8 + 1/8 +
 /// 1/8 of the edge's ends and opposite corners, old vertices moved by Warren's weights; on boundaries
 /// the cubic B-spline rules (edge midpoints, 3/4 + 1/8 + 1/8). Non-manifold edges are split at their

@@ -11,7 +11,6 @@ struct Checkpoint {
   int it = 0;
   double msae = 0.0, ndisp = 0.0, s20 = 0.0, s45 = 0.0;
   long flips = 0, turned = 0;
-  double soft = -1.0, soft_by_area = -1.0;  ///< soft creases (20-45 deg) by count and by area (-1: not in the file)
   double turned_area = -1.0;  ///< share of the area turned against the smoothed input, as --auto's check (-1: not in the file)
 };
 

@@ -32,9 +32,14 @@ double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, c
   return soft_crease_share(g, topo, min_deg, max_deg);
 }
 
-// The share of the surface (by area) whose faces point against the reference normals: slivers (the
-// near-zero-area triangles of a scan's meshing, whose normals are noise) weigh nothing, a turned patch of
-// real surface weighs its size.
+double enclosed_volume(const std::vector<Vec3>& p, const std::vector<Face>& faces) {
+  double v = 0.0;
+  for (const Face& f : faces) v += p[f[0]].dot(p[f[1]].cross(p[f[2]]));
+  return v / 6.0;
+}
+
+}  // namespace
+
 double turned_area_share(const FaceGeometry& g, const std::vector<Vec3>& reference) {
   double turned = 0.0, total = 0.0;
   for (std::size_t f = 0; f < g.normals.size(); ++f) {
@@ -43,14 +48,6 @@ double turned_area_share(const FaceGeometry& g, const std::vector<Vec3>& referen
   }
   return total > 0.0 ? turned / total : 0.0;
 }
-
-double enclosed_volume(const std::vector<Vec3>& p, const std::vector<Face>& faces) {
-  double v = 0.0;
-  for (const Face& f : faces) v += p[f[0]].dot(p[f[1]].cross(p[f[2]]));
-  return v / 6.0;
-}
-
-}  // namespace
 
 AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vector<std::string>& explicit_fields,
                         const AutoRules& rules, const ProgressCallback& progress) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "scanmesh/denoise.h"
+#include "scanmesh/geometry.h"
 #include "scanmesh/mesh.h"
 
 namespace scanmesh {
@@ -84,6 +85,11 @@ struct AutoReport {
   int probe_iterations = 0;    ///< iterations spent on a probe that was discarded
   std::string check;           ///< outcome of the result check
 };
+
+/// What the result check measures: the share of the surface (by area) whose faces point against the
+/// reference normals (`prefiltered_normals(mesh, 3, 2, 4)` of the input). Slivers, whose normals are
+/// noise, weigh nothing; a turned patch of real surface weighs its size.
+double turned_area_share(const FaceGeometry& geometry, const std::vector<Vec3>& reference);
 
 /// Denoises `mesh` in place with parameters chosen from the mesh. Fields of `given` named in
 /// `explicit_fields` (schema names, e.g. "sigma_s", "iterations") are kept as given; the others are
