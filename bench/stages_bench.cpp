@@ -62,7 +62,9 @@ void BM_UpdateVertices(benchmark::State& state) {
   const Fixture& f = fixture(static_cast<int>(state.range(0)));
   std::vector<Vec3> updated;
   for (auto _ : state) {
-    update_vertices(f.mesh.positions, f.topology, f.fidelity, f.geometry, f.geometry.normals, 0.2, nullptr, false, updated);
+    VertexUpdateTerms terms;
+    terms.lambda = 0.2;
+    update_vertices(f.mesh.positions, f.topology, f.fidelity, f.geometry, f.geometry.normals, terms, updated);
     benchmark::DoNotOptimize(updated.data());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<long>(f.mesh.num_vertices()));

@@ -154,8 +154,10 @@ TEST(NormalFiltering, CentroidsFromThePositionsGiveTheSameBits) {
   Topology vt = build_topology(m);
   const PackedRows fidelity = PackedRows::from(fidelity_neighbours(m, vt));
   std::vector<Vec3> a, b;
-  update_vertices(m.positions, t, fidelity, full, from_table, 0.2, nullptr, false, a);
-  update_vertices(m.positions, t, fidelity, lean, from_table, 0.2, nullptr, false, b, &m.faces);
+  VertexUpdateTerms terms;
+  terms.lambda = 0.2;
+  update_vertices(m.positions, t, fidelity, full, from_table, terms, a);
+  update_vertices(m.positions, t, fidelity, lean, from_table, terms, b, &m.faces);
   EXPECT_EQ(a, b);
   EXPECT_NE(a, m.positions);  // the update did move the vertices
 }

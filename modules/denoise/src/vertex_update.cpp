@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "scanmesh/geometry.h"
+
 namespace scanmesh {
 namespace {
 
@@ -13,6 +15,37 @@ bool every_edge_kept(const Topology& topology, const std::vector<std::uint8_t>& 
   for (std::size_t e = 0; e < topology.edges.size(); ++e)
     if (!keep[e] && topology.edges[e][0] != topology.edges[e][1]) return false;
   return true;
+}
+
+// True if a triangle's circumradius exceeds `limit` x its shortest edge (or it has no area), without roots:
+// R = abc / (4A), so R > limit x l_min  <=>  a^2 b^2 c^2 > limit^2 l_min^2 16 A^2, and 16 A^2 = 4 |cross|^2.
+bool is_sliver(const Vec3& p, const Vec3& q, const Vec3& r, double limit) {
+  const double a2 = (q - r).squaredNorm(), b2 = (r - p).squaredNorm(), c2 = (p - q).squaredNorm();
+  const double cross2 = (q - p).cross(r - p).squaredNorm();
+  return a2 * b2 * c2 > 4.0 * limit * limit * std::min({a2, b2, c2}) * cross2;
+}
+
+// How the filtered normals around a vertex meet, from their area-weighted tensor: one large eigenvalue on
+// smooth parts, two along a sharp edge (then `edge` is its direction), three at a corner.
+enum class Feature { smooth, edge, corner };
+constexpr double kFeature = 0.1;  // eigenvalue (share of the area) above which a normal direction counts
+
+Feature classify(const Eigen::Matrix3d& tensor, double area, const Vec3& vertex_normal, double nlen, Vec3& edge) {
+  if (!(area > 0.0)) return Feature::smooth;
+  const Eigen::Matrix3d t = tensor / area;
+  // The middle eigenvalue is at most trace - largest, and the largest at least the Rayleigh quotient of
+  // the vertex normal, so where trace - quotient is clearly below kFeature (smooth parts, most vertices)
+  // no eigenvalues are needed. The margin covers the solver's rounding: the result is as with the solve.
+  if (nlen > 0.0 && t.trace() - vertex_normal.dot(t * vertex_normal) < kFeature - 1e-9) return Feature::smooth;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(t);
+  const Vec3 ev = es.eigenvalues();  // ascending
+  if (ev[0] >= kFeature) return Feature::corner;
+  if (ev[1] >= kFeature) {
+    edge = es.eigenvectors().col(0);
+    return Feature::edge;
+  }
+  return Feature::smooth;
 }
 
 }  // namespace
@@ -56,14 +89,35 @@ Adjacency fidelity_neighbours(const Mesh& mesh, Topology& topology) {
 }
 
 void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const PackedRows& neighbours,
-                     const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
-                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated,
-                     const std::vector<Face>* faces) {
+                     const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, const VertexUpdateTerms& terms,
+                     std::vector<Vec3>& updated, const std::vector<Face>* faces) {
   const auto nv = static_cast<long>(positions.size());
   updated.resize(positions.size());
   const bool stored = !geometry.centroids.empty();
   if (!stored && faces == nullptr && nv > 0)
     throw std::logic_error("update_vertices: geometry without centroids and no faces to compute them from");
+  const bool guard = terms.slivers != nullptr;
+  if (guard && terms.slivers->size() != geometry.areas.size())
+    throw std::logic_error("update_vertices: one sliver flag per face needed");
+  const double lambda = terms.lambda;
+  const BoundaryCurves* boundary = terms.boundary;
+  const bool feature_aware = terms.feature_aware;
+  // The area-weighted tensor of the filtered normals around vertex i (for classify()).
+  auto normal_tensor = [&](long i, double& area) {
+    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+    area = 0.0;
+    for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
+      const Vec3& n = filtered_normals[*f];
+      tensor += geometry.areas[*f] * n * n.transpose();
+      area += geometry.areas[*f];
+    }
+    return tensor;
+  };
+  auto touches_sliver = [&](long i) {
+    for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f)
+      if ((*terms.slivers)[*f]) return true;
+    return false;
+  };
   auto centroid = [&](int f) -> Vec3 { return stored ? geometry.centroids[f] : face_centroid(positions, (*faces)[f]); };
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
@@ -76,17 +130,10 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     // Edge-normal orthogonality: move towards the planes of the filtered normals through the centroids.
     Vec3 fit = Vec3::Zero();
     Vec3 vertex_normal = Vec3::Zero();
-    // The normal tensor (used below when feature_aware) in the same pass over the faces.
-    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-    double area = 0.0;
     for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
       const Vec3& n = filtered_normals[*f];
       fit += n * n.dot(centroid(*f) - vi);
       vertex_normal += geometry.areas[*f] * n;
-      if (feature_aware) {
-        tensor += geometry.areas[*f] * n * n.transpose();
-        area += geometry.areas[*f];
-      }
     }
     fit /= static_cast<double>(nfaces);
     const double nlen = vertex_normal.norm();
@@ -129,35 +176,51 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
       wsum += wij * positions[j];
       w += wij;
     });
+    const Vec3 d = w > 0.0 ? Vec3(wsum / w - vi) : Vec3::Zero();
+    // Feature-aware moves: on sharp edges only along the edge, at corners none, so evening out triangles
+    // does not round features. Classified only where needed (the eigenvalues are not free).
+    const bool sliver = guard && w > 0.0 && touches_sliver(i);
+    Feature feature = Feature::smooth;
+    Vec3 edge = Vec3::Zero();
+    if (w > 0.0 && (feature_aware || sliver)) {
+      double area = 0.0;
+      const Eigen::Matrix3d tensor = normal_tensor(i, area);
+      feature = classify(tensor, area, vertex_normal, nlen, edge);
+    }
     if (w > 0.0) {
-      const Vec3 d = wsum / w - vi;
       r = d + (d - d.dot(vertex_normal) * vertex_normal);
-      if (feature_aware) {
-        // Normal tensor of the filtered normals: one large eigenvalue on smooth parts, two along a
-        // sharp edge, three at a corner. On edges only the move along the edge is kept, at corners none,
-        // so the fidelity term evens out triangles without rounding features.
-        constexpr double kFeature = 0.1;
-        // The middle eigenvalue is at most trace - largest, and the largest at least the Rayleigh
-        // quotient of the vertex normal, so where trace - quotient is clearly below kFeature (smooth
-        // parts, most vertices) the eigenvalues cannot change r and are not computed. The margin covers
-        // the solver's rounding, so the result is the same as with the solve.
-        const Eigen::Matrix3d t = area > 0.0 ? Eigen::Matrix3d(tensor / area) : Eigen::Matrix3d::Zero();
-        const bool smooth = area > 0.0 && nlen > 0.0 && t.trace() - vertex_normal.dot(t * vertex_normal) < kFeature - 1e-9;
-        if (area > 0.0 && !smooth) {
-          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-          es.computeDirect(t);
-          const Vec3 ev = es.eigenvalues();  // ascending
-          if (ev[0] >= kFeature) {
-            r.setZero();
-          } else if (ev[1] >= kFeature) {
-            const Vec3 t = es.eigenvectors().col(0);
-            r = 2.0 * d.dot(t) * t;
-          }
-        }
-      }
+      if (feature_aware && feature == Feature::corner) r.setZero();
+      if (feature_aware && feature == Feature::edge) r = 2.0 * d.dot(edge) * edge;
     }
     updated[i] = vi + fit + lambda * r;
+    if (sliver) {
+      // The sliver guard: the edge-normal term pulls vertices near a sharp edge onto it, and once lambda
+      // has decayed nothing spreads them again, so triangles there collapse into slivers and fold. A
+      // vertex of a sliver takes a fixed share of its tangential fidelity move every iteration, within the
+      // surface (along the edge on a sharp edge, none at a corner), so the surface keeps its shape.
+      Vec3 t = d - d.dot(vertex_normal) * vertex_normal;
+      if (feature == Feature::corner) t.setZero();
+      if (feature == Feature::edge) t = d.dot(edge) * edge;
+      updated[i] += terms.sliver_step * t;
+    }
   }
+}
+
+std::size_t mark_new_slivers(const std::vector<Vec3>& positions, const std::vector<Vec3>& input, const std::vector<Face>& faces,
+                             double limit, std::vector<std::uint8_t>& flags) {
+  flags.resize(faces.size());
+  std::size_t count = 0;
+  const auto nf = static_cast<long>(faces.size());
+#pragma omp parallel for schedule(static) reduction(+ : count)
+  for (long f = 0; f < nf; ++f) {
+    const Face& t = faces[f];
+    // The root-free test first; the shapes themselves only for the few it flags.
+    const bool sliver = is_sliver(positions[t[0]], positions[t[1]], positions[t[2]], limit) &&
+                        triangle_shape(positions[t[0]], positions[t[1]], positions[t[2]]) > triangle_shape(input[t[0]], input[t[1]], input[t[2]]);
+    flags[f] = sliver ? 1 : 0;
+    count += sliver ? 1 : 0;
+  }
+  return count;
 }
 
 }  // namespace scanmesh

@@ -47,6 +47,7 @@ struct DenoiseOptions {
   bool keep_boundary = true;
   double boundary_window = 2.0;
   bool feature_aware_fidelity = false;
+  double sliver_guard = 3.0;
   double outlier_jump = 0.0;
 
   static const Schema<DenoiseOptions>& schema() {
@@ -90,6 +91,11 @@ struct DenoiseOptions {
             .flag("feature_aware_fidelity", &O::feature_aware_fidelity,
                   "Fidelity term that moves vertices only along sharp edges and not at corners (a clean CAD part stays "
                   "exact; measured worse on noisy fandisk).")
+            .number("sliver_guard", &O::sliver_guard, closed(0, 100), "x shortest edge",
+                    "Triangles the run has made worse than this (circumradius over shortest edge; 0.577 is equilateral) "
+                    "and worse than they were get their vertices evened out within the surface in every iteration, "
+                    "along sharp edges only and not at corners, so edges pulling vertices together cannot fold them "
+                    "into slivers; 0 = off (the paper), otherwise at least 1.")
             .number("outlier_jump", &O::outlier_jump, closed(0, 1000), "x median jump",
                     "Impulsive noise: only vertices whose height jump over their one-ring exceeds this multiple of the "
                     "median move (the outliers), the rest stay; 0 moves every vertex.");

@@ -3,6 +3,7 @@
 // eq. 4-6, with the typos fixed as in docs):
 //   v_i <- v_i + 1/|F_v(i)| sum_k n~_k (n~_k . (c_k - v_i)) + lambda_I (D_i + D_t_i)
 // where D_i is the |v_i - v_j|^2-weighted differential coordinate and D_t_i its tangential part.
+#include <cstdint>
 #include <vector>
 
 #include "scanmesh/boundary_curves.h"
@@ -20,15 +21,33 @@ namespace scanmesh {
 /// than copied (topology.vertex_vertices is then left with no rows).
 Adjacency fidelity_neighbours(const Mesh& mesh, Topology& topology);
 
+/// The terms of one vertex-update step besides the edge-normal fit.
+struct VertexUpdateTerms {
+  double lambda = 0.0;  ///< weight of the isotropic fidelity term R_i
+  /// Non-null: boundary vertices only even out their edges along the boundary (their denoising is
+  /// smooth_boundary_curves's job).
+  const BoundaryCurves* boundary = nullptr;
+  /// R_i acts only along sharp edges (not across them) and not at corners, judged from the normal tensor
+  /// of the filtered normals around the vertex.
+  bool feature_aware = false;
+  /// Sliver guard: per face, 1 where the run has made a sliver (mark_new_slivers); null = off. Vertices of
+  /// those faces also move by sliver_step x the tangential part of D_i, feature-aware as above, whatever
+  /// lambda is.
+  const std::vector<std::uint8_t>* slivers = nullptr;
+  double sliver_step = 0.0;
+};
+
+/// Flags the faces whose circumradius exceeds `limit` x their shortest edge and that are worse shaped than
+/// they were in `input` (the run made them slivers; a tessellation's own slivers are left as they are).
+/// Returns how many.
+std::size_t mark_new_slivers(const std::vector<Vec3>& positions, const std::vector<Vec3>& input, const std::vector<Face>& faces,
+                             double limit, std::vector<std::uint8_t>& flags);
+
 /// One vertex-update step from `positions` into `updated`; R_i averages over `neighbours`
-/// (fidelity_neighbours, packed with each row anchored at its vertex). With `boundary` non-null, boundary vertices
-/// only even out their edges along the boundary (their denoising is smooth_boundary_curves's job).
-/// With `feature_aware`, the fidelity term R_i acts only along sharp edges (not across them) and not at
-/// corners, judged from the normal tensor of the filtered normals around the vertex. If `geometry` has no
-/// centroids, each face's is computed from `positions` and `faces` (which must then be given).
+/// (fidelity_neighbours, packed with each row anchored at its vertex). If `geometry` has no centroids,
+/// each face's is computed from `positions` and `faces`.
 void update_vertices(const std::vector<Vec3>& positions, const Topology& topology, const PackedRows& neighbours,
-                     const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, double lambda,
-                     const BoundaryCurves* boundary, bool feature_aware, std::vector<Vec3>& updated,
-                     const std::vector<Face>* faces = nullptr);
+                     const FaceGeometry& geometry, const std::vector<Vec3>& filtered_normals, const VertexUpdateTerms& terms,
+                     std::vector<Vec3>& updated, const std::vector<Face>* faces = nullptr);
 
 }  // namespace scanmesh
