@@ -2,6 +2,7 @@
 // defaults (MSAE in degrees against the clean mesh / flipped faces). A quick check of a change to --auto;
 // the held-back (leave-one-model-out) figures come from scanmesh_auto_cv table.
 // usage: scanmesh_auto_corpus [DATA_DIR] [--only MODEL]
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -23,7 +24,10 @@ int main(int argc, char** argv) {
     std::printf("skipped: %s not found\n", data.c_str());
     return 0;
   }
-  std::printf("model,variant,noisy_msae,noisy_flips,default_msae,default_flips,auto_msae,auto_flips,mode,iterations\n");
+  std::printf("model,variant,noisy_msae,noisy_flips,default_msae,default_flips,auto_msae,auto_flips,mode,iterations,"
+              "noisy_slivers,default_slivers,auto_slivers\n");
+  // Slivers: faces whose circumradius exceeds 3x their shortest edge (equilateral: 0.577).
+  auto slivers = [](const MeshMetrics& m) { return std::count_if(m.face_quality.begin(), m.face_quality.end(), [](double q) { return q > 3.0; }); };
   int wins = 0, total = 0, worse = 0;
   for (const auto& model : models) {
     if (!only.empty() && model.name != only) continue;
@@ -35,8 +39,9 @@ int main(int argc, char** argv) {
       Mesh a = pair.noisy;
       const AutoReport r = denoise_auto(a, DenoiseOptions{});
       const MeshMetrics am = evaluate(a, &pair.clean);
-      std::printf("%s,%s,%.3f,%zu,%.3f,%zu,%.3f,%zu,%s,%d\n", pair.model.c_str(), pair.variant.c_str(), noisy.msae_deg, noisy.flipped_faces,
-                  dm.msae_deg, dm.flipped_faces, am.msae_deg, am.flipped_faces, r.mode.c_str(), r.run.iterations);
+      std::printf("%s,%s,%.3f,%zu,%.3f,%zu,%.3f,%zu,%s,%d,%ld,%ld,%ld\n", pair.model.c_str(), pair.variant.c_str(), noisy.msae_deg,
+                  noisy.flipped_faces, dm.msae_deg, dm.flipped_faces, am.msae_deg, am.flipped_faces, r.mode.c_str(), r.run.iterations,
+                  static_cast<long>(slivers(noisy)), static_cast<long>(slivers(dm)), static_cast<long>(slivers(am)));
       std::fflush(stdout);
       ++total;
       wins += am.msae_deg < dm.msae_deg ? 1 : 0;
