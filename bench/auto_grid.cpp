@@ -3,7 +3,8 @@
 // displacement from the noisy input, at checkpoint iterations. One run to the last checkpoint gives every
 // earlier one (the state after k iterations does not depend on the total), so the grid is cheap enough
 // to fit --auto offline, with leave-one-model-out cross-validation (auto_cv).
-// usage: scanmesh_auto_grid [DATA_DIR] [--only MODEL,...] [--sigmas a,b,..] [--lambdas ..] [--radii ..] > grid.csv
+// usage: scanmesh_auto_grid [DATA_DIR] [--only MODEL,...] [--sigmas a,b,..] [--lambdas ..] [--radii ..]
+//                           [--sliver-guard G] > grid.csv   (G: the denoiser's sliver_guard, default its default)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -58,6 +59,7 @@ int main(int argc, char** argv) {
   std::string only, skip;
   std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
   std::vector<double> outliers = {0.0};
+  double sliver_guard = DenoiseOptions{}.sliver_guard;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--skip") && i + 1 < argc) skip = argv[++i];
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--outliers") && i + 1 < argc) outliers = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--sliver-guard") && i + 1 < argc) sliver_guard = std::atof(argv[++i]);
     else data = argv[i];
   }
   const auto models = bench::corpus_models(data);
@@ -113,6 +116,7 @@ int main(int argc, char** argv) {
             o.lambda = l;
             o.radius_factor = r;
             o.outlier_jump = ou;
+            o.sliver_guard = sliver_guard;
             o.iterations = checkpoints.back();
             std::size_t next = 0;
             FaceGeometry cg;
