@@ -61,11 +61,6 @@ void validate(const DenoiseOptions& o) {
 
 namespace {
 
-// The sliver guard's step: the share of its tangential fidelity move a sliver's vertex takes per iteration.
-// Large enough to undo the edge-normal term's pull within a few iterations; at 1 the moves overshoot and
-// oscillate.
-constexpr double kSliverStep = 0.3;
-
 // Faces in the order of their centroids along a Morton (Z-order) curve, vertices in the order the faces
 // first use them (vertices without faces last): faces that are close in space are close in memory, so
 // the neighbourhood loops read a few cache lines instead of one per neighbour. The order depends only on
@@ -330,18 +325,10 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     std::vector<Vec3>().swap(geometry.centroids);
   }
   double lambda = options.lambda;
+  VertexUpdateTerms terms;
+  terms.boundary = boundary ? &curves : nullptr;
+  terms.feature_aware = options.feature_aware_fidelity;
   std::vector<std::uint8_t> slivers;  // per face, for the sliver guard (filled every iteration)
-  auto terms = [&](double l) {
-    VertexUpdateTerms t;
-    t.lambda = l;
-    t.boundary = boundary ? &curves : nullptr;
-    t.feature_aware = options.feature_aware_fidelity;
-    if (options.sliver_guard > 0.0 && mark_new_slivers(positions, mesh.positions, mesh.faces, options.sliver_guard, slivers) > 0) {
-      t.slivers = &slivers;
-      t.sliver_step = kSliverStep;
-    }
-    return t;
-  };
   report.stop_reason = "iterations";
   for (int it = 0; it < options.iterations; ++it) {
     if (options.recompute_neighbourhoods && it > 0) {
@@ -356,7 +343,11 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     filter_face_normals(geometry, *neighbourhoods, c_a, options.sigma_s, options.estimator, filtered, nullptr, &work);
     report.seconds_filtering += seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
-    update_vertices(positions, topology, fidelity, geometry, filtered, terms(lambda), updated, &mesh.faces);
+    terms.lambda = lambda;
+    const bool guard = options.sliver_guard > 0.0 &&
+                       mark_new_slivers(positions, mesh.positions, mesh.faces, options.sliver_guard, slivers) > 0;
+    terms.slivers = guard ? &slivers : nullptr;
+    update_vertices(positions, topology, fidelity, geometry, filtered, terms, updated, &mesh.faces);
     positions.swap(updated);
     if (boundary)
       // Under impulsive noise the vertices that move (outliers, and boundary vertices, which the jump test

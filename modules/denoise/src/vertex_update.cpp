@@ -30,6 +30,11 @@ bool is_sliver(const Vec3& p, const Vec3& q, const Vec3& r, double limit) {
 enum class Feature { smooth, edge, corner };
 constexpr double kFeature = 0.1;  // eigenvalue (share of the area) above which a normal direction counts
 
+// The sliver guard's step: the share of its tangential fidelity move a sliver's vertex takes per iteration.
+// Large enough to undo the edge-normal term's pull within a few iterations; at 1 the moves overshoot and
+// oscillate.
+constexpr double kSliverStep = 0.3;
+
 Feature classify(const Eigen::Matrix3d& tensor, double area, const Vec3& vertex_normal, double nlen, Vec3& edge) {
   if (!(area > 0.0)) return Feature::smooth;
   const Eigen::Matrix3d t = tensor / area;
@@ -201,7 +206,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
       Vec3 t = d - d.dot(vertex_normal) * vertex_normal;
       if (feature == Feature::corner) t.setZero();
       if (feature == Feature::edge) t = d.dot(edge) * edge;
-      updated[i] += terms.sliver_step * t;
+      updated[i] += kSliverStep * t;
     }
   }
 }

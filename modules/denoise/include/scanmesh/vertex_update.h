@@ -31,10 +31,8 @@ struct VertexUpdateTerms {
   /// of the filtered normals around the vertex.
   bool feature_aware = false;
   /// Sliver guard: per face, 1 where the run has made a sliver (mark_new_slivers); null = off. Vertices of
-  /// those faces also move by sliver_step x the tangential part of D_i, feature-aware as above, whatever
-  /// lambda is.
+  /// those faces also move by 0.3 x the tangential part of D_i, feature-aware as above, whatever lambda is.
   const std::vector<std::uint8_t>* slivers = nullptr;
-  double sliver_step = 0.0;
 };
 
 /// Flags the faces whose circumradius exceeds `limit` x their shortest edge and that are worse shaped than
