@@ -68,6 +68,68 @@ TEST(CloudStages, VoxelAveragesAndIsDeterministic) {
   EXPECT_EQ(a.colours[0][1], 20);
 }
 
+TEST(CloudStages, VoxelMaxPointsBringsACloudWithinTheCount) {
+  // A plane stays a plane (centroids of coplanar points), a sphere stays near the sphere; the count lands
+  // at or below the limit and not far below it; the same input gives the same output.
+  PointCloud plane = plane_cloud(100, 0.01, 0.0, 1);
+  VoxelOptions o;
+  o.max_points = 1000;
+  PointCloud a = plane;
+  const VoxelReport r = voxel_downsample(a, o, measure_scale(plane));
+  EXPECT_EQ(r.before, 10000u);
+  EXPECT_EQ(r.after, a.size());
+  EXPECT_LE(a.size(), 1000u);
+  EXPECT_GE(a.size(), 700u);
+  EXPECT_GT(r.leaf, 0.02);
+  for (const Vec3& p : a.points) EXPECT_EQ(p.z(), 0.0);
+  PointCloud b = plane;
+  voxel_downsample(b, o, measure_scale(plane));
+  EXPECT_EQ(a.points, b.points);
+
+  PointCloud sphere = sphere_cloud(20000, 5);
+  o.max_points = 2000;
+  const VoxelReport rs = voxel_downsample(sphere, o, measure_scale(sphere));
+  EXPECT_LE(sphere.size(), 2000u);
+  EXPECT_GE(sphere.size(), 1400u);
+  EXPECT_EQ(rs.after, sphere.size());
+  for (const Vec3& p : sphere.points) EXPECT_NEAR(p.norm(), 1.0, 0.02);
+
+  // With an edge given as well, the limit only ever makes it larger.
+  PointCloud c = plane;
+  o.leaf = Length::spacings(1.5);
+  o.max_points = 1000000;
+  EXPECT_NEAR(voxel_downsample(c, o, measure_scale(plane)).leaf, 0.015, 1e-12);
+  c = plane;
+  o.max_points = 500;
+  voxel_downsample(c, o, measure_scale(plane));
+  EXPECT_LE(c.size(), 500u);
+  EXPECT_GE(c.size(), 350u);
+}
+
+TEST(CloudStages, VoxelMaxPointsLeavesSmallAndOrganizedCloudsWhole) {
+  PointCloud small = plane_cloud(20, 0.1, 0.0, 1);
+  VoxelOptions o;
+  o.max_points = 400;
+  PointCloud s = small;
+  VoxelReport r = voxel_downsample(s, o, measure_scale(small));
+  EXPECT_EQ(s.points, small.points);
+  EXPECT_EQ(r.leaf, 0.0);
+  // A 30 x 30 grid over the limit stays whole: organized meshing needs the grid and is linear in it.
+  PointCloud grid = plane_cloud(30, 0.1, 0.0, 1);
+  grid.width = grid.height = 30;
+  PointCloud g = grid;
+  r = voxel_downsample(g, o, measure_scale(grid));
+  EXPECT_TRUE(r.limit_skipped_organized);
+  EXPECT_EQ(g.points, grid.points);
+  EXPECT_TRUE(g.organized());
+  // A limit of one still ends (at most 8 voxels meet at the origin's corner).
+  PointCloud around = plane_cloud(10, 0.1, 0.0, 1);
+  for (Vec3& p : around.points) p -= Vec3(0.45, 0.45, 0.0);
+  o.max_points = 1;
+  voxel_downsample(around, o, measure_scale(around));
+  EXPECT_LE(around.size(), 8u);
+}
+
 TEST(CloudStages, OutliersAreRemovedFromAPlane) {
   PointCloud c = plane_cloud(30, 0.1, 0.002, 3);
   const std::size_t inliers = c.size();

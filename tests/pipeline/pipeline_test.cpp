@@ -127,6 +127,22 @@ TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {
   }());
 }
 
+// After a voxel grid thins the cloud, lengths in spacings mean the new spacing: greedy projection's
+// 5 x spacing would be under the thinned cloud's spacing if it were the input's, and mesh nothing.
+TEST_F(PipelineTest, LengthsAfterAVoxelGridAreInItsSpacing) {
+  std::string xyz;
+  for (int j = 0; j < 60; ++j)
+    for (int i = 0; i < 60; ++i) xyz += std::to_string(0.01 * i) + " " + std::to_string(0.01 * j) + " 0\n";
+  write("c.xyz", xyz);
+  const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.voxel\n    voxel_max_points: 100\n  - type: cloud.normals\n"
+                           "  - type: mesh.gp3\n  - " + path("out.ply") + "\n";
+  Pipeline::load(write("p.yaml", yaml), {}).run();
+  const Mesh m = read_mesh(path("out.ply"));
+  EXPECT_LE(m.num_vertices(), 100u);
+  EXPECT_GE(m.faces.size(), 100u);
+  for (const Vec3& p : m.positions) EXPECT_EQ(p.z(), 0.0);
+}
+
 TEST_F(PipelineTest, OverridesReplaceInputOutputAndOptions) {
   const std::string yaml = "pipeline:\n  - " + path("nothing.ply") + "\n  - type: mesh.denoise\n    tag: d\n  - " + path("x.ply") + "\n";
   PipelineOptions o;

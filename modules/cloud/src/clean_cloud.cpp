@@ -10,7 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <cstdint>
+#include <limits>
 #include <queue>
 #include <tuple>
 
@@ -62,38 +63,97 @@ void crop(PointCloud& cloud, const CropOptions& o) {
   keep_points(cloud, keep);
 }
 
-void voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const CloudScale& scale) {
-  const double leaf = o.leaf.resolve(scale.spacing, scale.spacing, scale.diagonal);
-  if (!(leaf > 0.0)) return;
-  struct Acc {
-    Vec3 p = Vec3::Zero(), n = Vec3::Zero(), c = Vec3::Zero();
-    int count = 0;
-  };
-  std::map<std::tuple<long long, long long, long long>, Acc> voxels;  // ordered: deterministic output
+namespace {
+
+// A voxel's integer coordinates and the point in it; sorted by voxel, then by point (the accumulation order).
+struct VoxelKey {
+  std::int64_t x, y, z;
+  std::uint32_t point;
+  bool operator<(const VoxelKey& o) const { return std::tie(x, y, z, point) < std::tie(o.x, o.y, o.z, o.point); }
+  bool same_voxel(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+
+std::vector<VoxelKey> voxel_keys(const PointCloud& cloud, double leaf) {
+  std::vector<VoxelKey> keys;
+  keys.reserve(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Vec3& p = cloud.points[i];
     if (!p.allFinite()) continue;
-    auto& a = voxels[{static_cast<long long>(std::floor(p.x() / leaf)), static_cast<long long>(std::floor(p.y() / leaf)),
-                      static_cast<long long>(std::floor(p.z() / leaf))}];
-    a.p += p;
-    if (cloud.has_normals()) a.n += cloud.normals[i];
-    if (cloud.has_colours()) a.c += Vec3(cloud.colours[i][0], cloud.colours[i][1], cloud.colours[i][2]);
-    ++a.count;
+    const Vec3 c = (p / leaf).array().floor();
+    if (!(c.cwiseAbs().maxCoeff() < 4e18))
+      throw InputError("cloud.voxel: a voxel edge of " + std::to_string(leaf) + " is too small for coordinates as large as " +
+                       std::to_string(p.cwiseAbs().maxCoeff()));
+    keys.push_back({static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z()),
+                    static_cast<std::uint32_t>(i)});
   }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+std::size_t occupied_voxels(const std::vector<VoxelKey>& keys) {
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < keys.size(); ++k) n += (k == 0 || !keys[k].same_voxel(keys[k - 1])) ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const CloudScale& scale) {
+  VoxelOptions::schema().validate(o);
+  if (cloud.size() > std::numeric_limits<std::uint32_t>::max())
+    throw InputError("cloud.voxel: more than 2^32 points (" + std::to_string(cloud.size()) + ")");
+  VoxelReport r;
+  r.before = r.after = static_cast<std::size_t>(std::count_if(cloud.points.begin(), cloud.points.end(), [](const Vec3& p) { return p.allFinite(); }));
+  double leaf = o.leaf.resolve(scale.spacing, scale.spacing, scale.diagonal);
+  std::vector<VoxelKey> keys;
+  if (leaf > 0.0) keys = voxel_keys(cloud, leaf);
+  const auto limit = static_cast<std::size_t>(o.max_points);
+  const std::size_t count = leaf > 0.0 ? occupied_voxels(keys) : r.before;
+  if (limit > 0 && count > limit) {
+    if (cloud.organized()) {
+      r.limit_skipped_organized = true;
+    } else if (scale.spacing > 0.0) {
+      // On a surface the count falls with the square of the edge. Start a little below the estimate from the
+      // spacing and grow the edge by what the count is still over (at least 2%) until it fits.
+      double l = std::max(leaf, 0.7 * scale.spacing * std::sqrt(static_cast<double>(count) / static_cast<double>(limit)));
+      for (;;) {
+        keys = voxel_keys(cloud, l);
+        const std::size_t n = occupied_voxels(keys);
+        // Past the diagonal every point shares one of at most 8 voxels (those at the origin's corner).
+        if (n <= limit || l > 2.0 * scale.diagonal) break;
+        l *= std::max(1.02, std::sqrt(static_cast<double>(n) / static_cast<double>(limit)));
+      }
+      leaf = l;
+    }
+  }
+  if (keys.empty()) return r;
   PointCloud out;
   out.sensor_origin = cloud.sensor_origin;
   out.sensor_orientation = cloud.sensor_orientation;
-  for (const auto& [key, a] : voxels) {
-    out.points.push_back(a.p / a.count);
-    if (cloud.has_normals()) out.normals.push_back(a.n.norm() > 0.0 ? Vec3(a.n.normalized()) : Vec3::Zero());
+  for (std::size_t k = 0; k < keys.size();) {
+    Vec3 p = Vec3::Zero(), n = Vec3::Zero(), c = Vec3::Zero();
+    std::size_t e = k;
+    for (; e < keys.size() && keys[e].same_voxel(keys[k]); ++e) {
+      const std::size_t i = keys[e].point;
+      p += cloud.points[i];
+      if (cloud.has_normals()) n += cloud.normals[i];
+      if (cloud.has_colours()) c += Vec3(cloud.colours[i][0], cloud.colours[i][1], cloud.colours[i][2]);
+    }
+    const auto m = static_cast<double>(e - k);
+    out.points.push_back(p / m);
+    if (cloud.has_normals()) out.normals.push_back(n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero());
     if (cloud.has_colours()) {
-      const Vec3 c = a.c / a.count;
+      c /= m;
       out.colours.push_back({static_cast<std::uint8_t>(std::lround(c.x())), static_cast<std::uint8_t>(std::lround(c.y())),
                              static_cast<std::uint8_t>(std::lround(c.z()))});
     }
+    k = e;
   }
   out.width = static_cast<int>(out.points.size());
   cloud = std::move(out);
+  r.after = cloud.size();
+  r.leaf = leaf;
+  return r;
 }
 
 namespace {

@@ -18,7 +18,23 @@ struct CropStage : Stage {
 struct VoxelStage : Stage {
   VoxelOptions o;
   void bind(Binder& b) override { bind_options(b, o); }
-  void run(Data& d, RunContext&) override { voxel_downsample(need_cloud(d, "cloud.voxel"), o, scale_of(d)); }
+  void run(Data& d, RunContext&) override {
+    PointCloud& cloud = need_cloud(d, "cloud.voxel");
+    const VoxelReport r = voxel_downsample(cloud, o, scale_of(d));
+    char buf[192];
+    if (r.leaf > 0.0) {
+      std::snprintf(buf, sizeof buf, "%zu -> %zu points, voxel edge %.4g (%.2f x the point spacing)", r.before, r.after, r.leaf,
+                    d.scale->spacing > 0.0 ? r.leaf / d.scale->spacing : 0.0);
+      d.scale.reset();  // lengths in spacings after this stage mean the new spacing
+    } else if (r.limit_skipped_organized) {
+      std::snprintf(buf, sizeof buf, "%zu points, more than voxel_max_points %d, but organized: left whole", r.before, o.max_points);
+    } else {
+      std::snprintf(buf, sizeof buf, "%zu points: nothing to do", r.before);
+    }
+    details = buf;
+    decision_numbers = {{"points_before", static_cast<double>(r.before)}, {"points_after", static_cast<double>(r.after)},
+                        {"voxel_edge", r.leaf}};
+  }
 };
 
 struct OutlierStage : Stage {

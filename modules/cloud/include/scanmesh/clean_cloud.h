@@ -27,14 +27,27 @@ void crop(PointCloud& cloud, const CropOptions& options);
 
 struct VoxelOptions {
   Length leaf = Length::spacings(0.0);
+  int max_points = 0;
   static const Schema<VoxelOptions>& schema() {
-    static const Schema<VoxelOptions> s = Schema<VoxelOptions>().length(
-        "voxel_leaf", &VoxelOptions::leaf, at_least(0), "Voxel-grid edge: one point (the centroid) per occupied voxel; 0 keeps every point.");
+    static const Schema<VoxelOptions> s =
+        Schema<VoxelOptions>()
+            .length("voxel_leaf", &VoxelOptions::leaf, at_least(0),
+                    "Voxel-grid edge: one point (the centroid) per occupied voxel; 0 keeps every point.")
+            .integer("voxel_max_points", &VoxelOptions::max_points, closed(0, 2000000000), "count",
+                     "Most points to keep: an unorganized cloud with more gets the smallest voxel edge (at least voxel_leaf, "
+                     "within 2%) that brings it to this count, found from its point spacing. Organized clouds are left whole "
+                     "(their meshing is linear in the pixels). 0 = no limit.");
     return s;
   }
 };
+/// What voxel_downsample did: point counts before and after, and the voxel edge it used (0: none).
+struct VoxelReport {
+  std::size_t before = 0, after = 0;
+  double leaf = 0.0;
+  bool limit_skipped_organized = false;  ///< over max_points but organized: left whole
+};
 /// One point per occupied voxel (the centroid; normals and colours averaged). Deterministic.
-void voxel_downsample(PointCloud& cloud, const VoxelOptions& options, const CloudScale& scale);
+VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& options, const CloudScale& scale);
 
 struct OutlierOptions {
   int neighbours = 16;
