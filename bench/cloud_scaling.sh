@@ -20,7 +20,7 @@ trap 'rm -rf "$tmp"' EXIT
 views=(0 6 6 12 12)
 widths=(0 640 1280 1600 2880)
 heights=(0 480 960 1200 2160)
-stages="cloud.dequantize cloud.outliers cloud.normals mesh.auto mesh.cleanup mesh.denoise"
+stages="cloud.dequantize cloud.voxel cloud.outliers cloud.normals mesh.auto mesh.cleanup mesh.denoise"
 printf "| points | scan (s) |"
 for s in $stages; do printf " %s (s) |" "$s"; done
 printf " main job (s) | peak MB | method | faces | status |\n|---|---|"

@@ -70,7 +70,7 @@ TEST(CloudStages, VoxelAveragesAndIsDeterministic) {
 
 TEST(CloudStages, VoxelMaxPointsBringsACloudWithinTheCount) {
   // A plane stays a plane (centroids of coplanar points), a sphere stays near the sphere; the count lands
-  // at or below the limit and not far below it; the same input gives the same output.
+  // at or below the limit and within 10% of it; the same input gives the same output.
   PointCloud plane = plane_cloud(100, 0.01, 0.0, 1);
   VoxelOptions o;
   o.max_points = 1000;
@@ -79,7 +79,7 @@ TEST(CloudStages, VoxelMaxPointsBringsACloudWithinTheCount) {
   EXPECT_EQ(r.before, 10000u);
   EXPECT_EQ(r.after, a.size());
   EXPECT_LE(a.size(), 1000u);
-  EXPECT_GE(a.size(), 700u);
+  EXPECT_GE(a.size(), 900u);
   EXPECT_GT(r.leaf, 0.02);
   for (const Vec3& p : a.points) EXPECT_EQ(p.z(), 0.0);
   PointCloud b = plane;
@@ -90,7 +90,7 @@ TEST(CloudStages, VoxelMaxPointsBringsACloudWithinTheCount) {
   o.max_points = 2000;
   const VoxelReport rs = voxel_downsample(sphere, o, measure_scale(sphere));
   EXPECT_LE(sphere.size(), 2000u);
-  EXPECT_GE(sphere.size(), 1400u);
+  EXPECT_GE(sphere.size(), 1800u);
   EXPECT_EQ(rs.after, sphere.size());
   for (const Vec3& p : sphere.points) EXPECT_NEAR(p.norm(), 1.0, 0.02);
 
@@ -103,7 +103,7 @@ TEST(CloudStages, VoxelMaxPointsBringsACloudWithinTheCount) {
   o.max_points = 500;
   voxel_downsample(c, o, measure_scale(plane));
   EXPECT_LE(c.size(), 500u);
-  EXPECT_GE(c.size(), 350u);
+  EXPECT_GE(c.size(), 450u);
 }
 
 TEST(CloudStages, VoxelMaxPointsLeavesSmallAndOrganizedCloudsWhole) {

@@ -96,6 +96,33 @@ std::size_t occupied_voxels(const std::vector<VoxelKey>& keys) {
   return n;
 }
 
+// The number of occupied voxels of edge `leaf`, for the search of an edge: 21 bits per axis packed into
+// one 64-bit key where the cloud spans fewer than 2^21 voxels along each axis (a quarter of the memory
+// and of the sorting time of the full keys), else from the full keys.
+std::size_t occupied_voxels(const PointCloud& cloud, double leaf) {
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const Vec3& p : cloud.points)
+    if (p.allFinite()) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  const Vec3 c0 = (lo / leaf).array().floor();
+  const Vec3 span = (hi / leaf).array().floor() - c0.array();
+  constexpr double kCells = 1 << 21;
+  if (!(span.maxCoeff() < kCells)) return occupied_voxels(voxel_keys(cloud, leaf));
+  std::vector<std::uint64_t> keys;
+  keys.reserve(cloud.size());
+  for (const Vec3& p : cloud.points) {
+    if (!p.allFinite()) continue;
+    // The same floor as voxel_keys, then shifted to start at 0 (clamped against rounding at the ends).
+    const Vec3 c = ((p / leaf).array().floor() - c0.array()).cwiseMax(0.0).cwiseMin(kCells - 1);
+    keys.push_back((static_cast<std::uint64_t>(c.x()) << 42) | (static_cast<std::uint64_t>(c.y()) << 21) |
+                   static_cast<std::uint64_t>(c.z()));
+  }
+  std::sort(keys.begin(), keys.end());
+  return static_cast<std::size_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
+}
+
 }  // namespace
 
 VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const CloudScale& scale) {
@@ -113,16 +140,36 @@ VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const Clo
     if (cloud.organized()) {
       r.limit_skipped_organized = true;
     } else if (scale.spacing > 0.0) {
-      // On a surface the count falls with the square of the edge. Start a little below the estimate from the
-      // spacing and grow the edge by what the count is still over (at least 2%) until it fits.
-      double l = std::max(leaf, 0.7 * scale.spacing * std::sqrt(static_cast<double>(count) / static_cast<double>(limit)));
-      for (;;) {
-        keys = voxel_keys(cloud, l);
-        const std::size_t n = occupied_voxels(keys);
-        // Past the diagonal every point shares one of at most 8 voxels (those at the origin's corner).
-        if (n <= limit || l > 2.0 * scale.diagonal) break;
-        l *= std::max(1.02, std::sqrt(static_cast<double>(n) / static_cast<double>(limit)));
+      // On a surface the count falls with the square of the edge: estimate the edge from the spacing, bracket
+      // the limit between an edge whose grid has too many voxels and one whose grid fits, and halve the
+      // bracket (geometrically) until its ends are within 2%; the end that fits is used.
+      const auto ratio = [&](std::size_t n) { return std::sqrt(static_cast<double>(n) / static_cast<double>(limit)); };
+      double too_small = leaf;  // 0, or an edge whose count is over the limit
+      double fits = 0.0;
+      double l = std::max(leaf * 1.02, scale.spacing * ratio(count));
+      // Past twice the diagonal every point shares one of at most 8 voxels (those at the origin's corner).
+      while (fits == 0.0) {
+        const std::size_t n = occupied_voxels(cloud, l);
+        if (n <= limit || l > 2.0 * scale.diagonal) {
+          fits = l;
+        } else {
+          too_small = l;
+          l *= std::max(1.02, ratio(n));
+        }
       }
+      if (too_small == 0.0) {  // the estimate already fits: shrink it until the grid is over the limit
+        for (std::size_t n = limit; too_small == 0.0 && fits > 1e-9 * scale.diagonal;) {
+          const double s = fits / std::max(1.02, 1.0 / ratio(std::max<std::size_t>(n, 1)));
+          n = occupied_voxels(cloud, s);
+          (n > limit ? too_small : fits) = s;
+        }
+      }
+      while (too_small > 0.0 && fits > 1.02 * too_small) {
+        const double mid = std::sqrt(too_small * fits);
+        (occupied_voxels(cloud, mid) > limit ? too_small : fits) = mid;
+      }
+      l = fits;
+      keys = voxel_keys(cloud, l);
       leaf = l;
     }
   }
