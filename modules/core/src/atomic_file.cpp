@@ -210,6 +210,14 @@ std::string read_file(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
   std::string data;
+  // A regular file is read into one buffer of its size (growing a string chunk by chunk copied a big
+  // file several times over and briefly held up to twice its size); what is not a regular file (a pipe)
+  // or grew meanwhile is read in chunks after that.
+  struct stat st {};
+  if (::fstat(::fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+    data.resize(static_cast<std::size_t>(st.st_size));
+    data.resize(std::fread(data.data(), 1, data.size(), f));
+  }
   char buf[1 << 16];
   std::size_t n;
   while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
