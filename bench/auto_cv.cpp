@@ -58,7 +58,7 @@ struct Outcome {
 };
 
 // Walks a curve like the real run: a checkpoint the result check (turned surface) fails is not kept, and
-// the run goes on; the discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
+// the run goes on (for at most r.check_patience failing iterations after one that passed); the discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
 // With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
 template <class Probe>
@@ -72,8 +72,11 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
   probed_out = false;
   for (const Checkpoint& c : curve) {
     if (c.it > cap) break;
-    // As the real run: a failing step is not kept, but the run goes on (a later step may pass again).
-    if (!((by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed)) last = &c;
+    // As the real run: a failing step is not kept, but the run goes on (a later step may pass again) until
+    // r.check_patience iterations in a row have failed after one that passed.
+    const bool fails = (by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed;
+    if (!fails) last = &c;
+    if (fails && last && last->it > 0 && r.check_patience > 0 && c.it - last->it >= r.check_patience) break;
     if (target > 0.0 && c.ndisp >= target) {
       const Checkpoint* half = nullptr;
       if (while_falling && r.crease_fall > 0.0)

@@ -270,3 +270,32 @@ TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
     EXPECT_LT(evaluate(a, &clean).msae_deg, 0.9 * evaluate(b, &clean).msae_deg) << "level " << level;
   }
 }
+
+// The result check keeps the last iteration that passed; once iterations fail check_patience times in a
+// row after it, the run ends early instead of running on to its cap, and keeps the same result. (A closed
+// sphere's volume limit of 0.4% fails the check from the fifth iteration on.)
+TEST(AutoDenoise, ARunThatKeepsFailingTheCheckEndsEarlyWithTheSameResult) {
+  const Mesh clean = test::make_sphere(4);
+  const Mesh input = noisy(clean, 0.3);
+  auto run = [&](int patience, Mesh& m, int& ran) {
+    AutoRules rules;
+    rules.max_volume_change = 0.004;
+    rules.check_patience = patience;
+    m = input;
+    ran = 0;
+    DenoiseOptions o;
+    o.iterations = 60;
+    return denoise_auto(m, o, {"iterations"}, rules, [&](int done, int) { ran = std::max(ran, done); });
+  };
+  Mesh on, patient;
+  int ran_on = 0, ran_patient = 0;
+  const AutoReport a = run(0, on, ran_on);
+  const AutoReport b = run(10, patient, ran_patient);
+  EXPECT_EQ(ran_on, 60);
+  ASSERT_GT(a.run.iterations, 0);
+  ASSERT_LT(a.run.iterations, 50);  // iterations failed after it: the case this test is about
+  EXPECT_EQ(b.run.iterations, a.run.iterations);
+  EXPECT_EQ(ran_patient, a.run.iterations + 10);
+  EXPECT_EQ(on.positions, patient.positions);
+  EXPECT_NE(b.check.find("volume"), std::string::npos) << b.check;  // the verdict names what failed
+}

@@ -89,8 +89,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // Runs `opt` on `m` with the result check after every iteration: an iteration passes unless it has more
   // of the surface (by area) turned against the smoothed input than the input has, or a closed mesh's
   // volume changed by more than the limit. A run goes on through failing iterations (the first steps on a
-  // scan's rough triangulation turn slivers and small facets that later ones straighten) and keeps the
-  // last iteration that passed (the input if none did). The discrepancy target ends it, unless `probe`
+  // scan's rough triangulation turn slivers and small facets that later ones straighten), until
+  // rules.check_patience of them in a row follow one that passed, and keeps the last iteration that
+  // passed (the input if none did). The discrepancy target ends it, unless `probe`
   // (asked after every iteration) lifts it; the probe may also end the run.
   enum class Probe { go_on, stop, no_target };
   using ProbeFn = std::function<Probe(int, const std::vector<Vec3>&)>;
@@ -106,6 +107,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     std::string verdict = "passed";
     int last_pass = 0;
     double last_turned = input_turned;
+    double last_volume_change = 0.0;  // of the last iteration, when measured
+    bool volume_failed = false;       // the last iteration failed on the volume, not on turned surface
     FaceGeometry at;
     std::vector<double> creases_at;  // by iteration (index 0: not measured)
     const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
@@ -113,13 +116,21 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       compute_face_geometry(pos, m.faces, at);  // one pass for the check and the displacement
       const double turned = turned_area_share(at, reference);
       bool fails = turned > std::max(input_turned, rules.turned_slack);
-      if (!fails && closed && std::abs(input_volume) > 0.0)
-        fails = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume) > rules.max_volume_change;
+      if (!fails && closed && std::abs(input_volume) > 0.0) {
+        last_volume_change = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume);
+        fails = last_volume_change > rules.max_volume_change;
+        volume_failed = fails;
+      } else {
+        volume_failed = false;
+      }
       if (!fails) {
         last_pass = it;
         accepted = pos;
       }
       last_turned = turned;
+      // Once iterations have passed, a run whose last `check_patience` iterations all failed is turning
+      // surface and ends: what it keeps stays the last iteration that passed.
+      if (fails && last_pass > 0 && rules.check_patience > 0 && it - last_pass >= rules.check_patience) return false;
       if (track && target_on) {
         creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
         creases_at[it] = soft_crease_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
@@ -136,9 +147,13 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       return next != Probe::stop;
     }, &cache);
     if (last_pass < rep.iterations) {
-      std::snprintf(line, sizeof line,
-                    "the last %d iterations turned %.2f%% of the surface against the smoothed input (input: %.2f%%); iteration %d kept",
-                    rep.iterations - last_pass, 100.0 * last_turned, 100.0 * input_turned, last_pass);
+      if (volume_failed)
+        std::snprintf(line, sizeof line, "the last %d iterations changed the volume by more than %.2f%% (the last: %.2f%%); iteration %d kept",
+                      rep.iterations - last_pass, 100.0 * rules.max_volume_change, 100.0 * last_volume_change, last_pass);
+      else
+        std::snprintf(line, sizeof line,
+                      "the last %d iterations turned %.2f%% of the surface against the smoothed input (input: %.2f%%); iteration %d kept",
+                      rep.iterations - last_pass, 100.0 * last_turned, 100.0 * input_turned, last_pass);
       verdict = line;
       rep.iterations = last_pass + 1;  // (one is taken off below)
     }

@@ -69,6 +69,10 @@ struct AutoRules {
   /// The check allows max(input's turned share, this share) of the surface (by area) turned against the
   /// smoothed input.
   double turned_slack = 0.002;
+  /// After an iteration has passed the check, this many failing ones in a row end the run (it keeps the
+  /// last that passed). 0 = run on. On the corpus no run passed again after a failing iteration; the one
+  /// run that went on (teapot, impulsive) spent 75 iterations after the one it kept.
+  int check_patience = 10;
 };
 
 /// What --auto measured and decided (printed by the command line, in the sidecar and the report).
