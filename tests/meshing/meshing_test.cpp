@@ -77,6 +77,24 @@ TEST(Meshing, Gp3OnASphereKeepsThePointsAndFacesOutwards) {
   EXPECT_GT(signed_volume(m), 3.5);  // outward: close to 4/3 pi
 }
 
+// A cloud saved twice (every point copied): the spacing is still the distance between distinct points,
+// and greedy projection meshes the distinct points as it meshes the cloud saved once.
+TEST(Meshing, Gp3OnACloudWhosePointsAreAllCopiedMeshesTheDistinctPoints) {
+  PointCloud once = sampled_sphere(2000);
+  estimate_normals(once, NormalOptions{});
+  PointCloud twice = once;
+  twice.points.insert(twice.points.end(), once.points.begin(), once.points.end());
+  twice.normals.insert(twice.normals.end(), once.normals.begin(), once.normals.end());
+  twice.width = static_cast<int>(twice.size());
+  const CloudScale s1 = measure_scale(once), s2 = measure_scale(twice);
+  EXPECT_NEAR(s2.spacing, s1.spacing, 1e-12);
+  const Mesh a = triangulate_gp3(once, Gp3Options{}, s1);
+  const Mesh b = triangulate_gp3(twice, Gp3Options{}, s2);
+  EXPECT_GT(a.num_faces(), 3500u);
+  EXPECT_EQ(b.positions, a.positions);
+  EXPECT_EQ(b.faces, a.faces);
+}
+
 TEST(Meshing, OrganizedGridWithHoles) {
   PointCloud c;
   c.width = 20;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/neighbourhoods.h"
@@ -43,6 +44,26 @@ pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& cloud, std
   }
   if (pc->size() < 3) throw InputError("meshing: fewer than 3 points with coordinates and normals");
   return pc;
+}
+
+// Keeps the first of points at the same position (PCL's greedy projection meshes nothing around copies
+// of a point: a view saved twice came out with no faces at all).
+void drop_copies(pcl::PointCloud<pcl::PointNormal>& pc, std::vector<int>& index) {
+  std::vector<std::size_t> order(pc.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  auto key = [&](std::size_t k) { return std::make_tuple(pc[k].x, pc[k].y, pc[k].z); };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  std::vector<std::uint8_t> keep(pc.size(), 1);
+  for (std::size_t k = 1; k < order.size(); ++k)
+    if (key(order[k]) == key(order[k - 1])) keep[order[k]] = 0;
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < pc.size(); ++k)
+    if (keep[k]) {
+      pc[w] = pc[k];
+      index[w++] = index[k];
+    }
+  pc.resize(w);
+  index.resize(w);
 }
 
 // Vertices are the cloud's points listed in `index`, faces from PCL polygons (indices into `index`).
@@ -87,6 +108,8 @@ double pixel_pitch(const PointCloud& cloud, const Vec3& eye) {
 Mesh triangulate_gp3(const PointCloud& cloud, const Gp3Options& o, const CloudScale& scale) {
   std::vector<int> index;
   auto pc = with_normals(cloud, index);
+  drop_copies(*pc, index);
+  if (pc->size() < 3) throw InputError("meshing: fewer than 3 distinct points with coordinates and normals");
   const double radius = o.radius.resolve(scale.spacing, scale.spacing, scale.diagonal);
   if (!(radius > 0.0)) throw UsageError("gp3: radius must be > 0");
   auto tree = pcl::make_shared<pcl::search::KdTree<pcl::PointNormal>>();

@@ -160,13 +160,18 @@ double mean_nearest_neighbour_distance(const std::vector<Vec3>& points) {
 #pragma omp for schedule(dynamic, 256)
     for (long q = 0; q < n; ++q) {
       const std::size_t i = static_cast<std::size_t>(q) * stride;
-      tree.knn(points[i], 2, idx, d2);
+      // The nearest point at another position: copies of a point (a view saved twice, merged exports)
+      // would otherwise make the spacing, and every length measured in it, zero.
       double best = 0.0;
-      for (std::size_t k = 0; k < idx.size(); ++k)
-        if (idx[k] != static_cast<std::size_t>(i)) {
-          best = std::sqrt(d2[k]);
-          break;
-        }
+      for (std::size_t k = 2; best == 0.0 && k <= 128; k *= 4) {
+        tree.knn(points[i], k, idx, d2);
+        for (std::size_t j = 0; j < idx.size(); ++j)
+          if (d2[j] > 0.0) {
+            best = std::sqrt(d2[j]);
+            break;
+          }
+        if (idx.size() < k) break;  // every point seen
+      }
       nearest[q] = best;
     }
   }

@@ -30,7 +30,8 @@ Adjacency knn_neighbourhoods(const std::vector<Vec3>& points, int k);
 /// Distance from each query to the nearest of `points` (infinity if `points` is empty).
 std::vector<double> nearest_point_distances(const std::vector<Vec3>& points, const std::vector<Vec3>& queries);
 
-/// Mean distance from each point to its nearest other point (0 for fewer than two points); over more than
+/// Mean distance from each point to its nearest point at another position (copies of a point are skipped,
+/// up to 127 of them; 0 for fewer than two distinct points); over more than
 /// a million points, the mean over every k-th point that brings the sample within a million.
 double mean_nearest_neighbour_distance(const std::vector<Vec3>& points);
 
