@@ -38,7 +38,7 @@ struct PipelineOptions {
   std::function<void(const std::string&)> log;
   /// A stage without progress lines of its own (reading, cloud clean-up, normals, mesh clean-up, ...)
   /// says "TYPE: still running (N s)" through `log` this often while it runs; 0 = never.
-  double heartbeat_seconds = 30.0;
+  double heartbeat_seconds = 10.0;
 };
 
 /// One stage given in code (what the command-line verbs build): its type, tag and options as text, each
