@@ -58,7 +58,8 @@ struct Outcome {
 };
 
 // Walks a curve like the real run: a checkpoint the result check (turned surface) fails is not kept, and
-// the run goes on (for at most r.check_patience failing iterations after one that passed); the discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
+// the run goes on (for at most r.check_patience failing iterations after one that passed); the
+// discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
 // With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
 template <class Probe>

@@ -14,6 +14,7 @@
 #include <limits>
 #include <queue>
 #include <tuple>
+#include <utility>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/geometry.h"
@@ -96,18 +97,23 @@ std::size_t occupied_voxels(const std::vector<VoxelKey>& keys) {
   return n;
 }
 
-// The number of occupied voxels of edge `leaf`, for the search of an edge: 21 bits per axis packed into
-// one 64-bit key where the cloud spans fewer than 2^21 voxels along each axis (a quarter of the memory
-// and of the sorting time of the full keys), else from the full keys.
-std::size_t occupied_voxels(const PointCloud& cloud, double leaf) {
+// The corners of the box around a cloud's finite points.
+std::pair<Vec3, Vec3> finite_bounds(const PointCloud& cloud) {
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const Vec3& p : cloud.points)
     if (p.allFinite()) {
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-  const Vec3 c0 = (lo / leaf).array().floor();
-  const Vec3 span = (hi / leaf).array().floor() - c0.array();
+  return {lo, hi};
+}
+
+// The number of occupied voxels of edge `leaf`, for the search of an edge: 21 bits per axis packed into
+// one 64-bit key where the cloud (within `bounds`) spans fewer than 2^21 voxels along each axis (a quarter
+// of the memory and of the sorting time of the full keys), else from the full keys.
+std::size_t occupied_voxels(const PointCloud& cloud, const std::pair<Vec3, Vec3>& bounds, double leaf) {
+  const Vec3 c0 = (bounds.first / leaf).array().floor();
+  const Vec3 span = (bounds.second / leaf).array().floor() - c0.array();
   constexpr double kCells = 1 << 21;
   if (!(span.maxCoeff() < kCells)) return occupied_voxels(voxel_keys(cloud, leaf));
   std::vector<std::uint64_t> keys;
@@ -144,12 +150,13 @@ VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const Clo
       // the limit between an edge whose grid has too many voxels and one whose grid fits, and halve the
       // bracket (geometrically) until its ends are within 2%; the end that fits is used.
       const auto ratio = [&](std::size_t n) { return std::sqrt(static_cast<double>(n) / static_cast<double>(limit)); };
+      const auto bounds = finite_bounds(cloud);  // once: every count of the search uses it
       double too_small = leaf;  // 0, or an edge whose count is over the limit
       double fits = 0.0;
       double l = std::max(leaf * 1.02, scale.spacing * ratio(count));
       // Past twice the diagonal every point shares one of at most 8 voxels (those at the origin's corner).
       while (fits == 0.0) {
-        const std::size_t n = occupied_voxels(cloud, l);
+        const std::size_t n = occupied_voxels(cloud, bounds, l);
         if (n <= limit || l > 2.0 * scale.diagonal) {
           fits = l;
         } else {
@@ -160,13 +167,13 @@ VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const Clo
       if (too_small == 0.0) {  // the estimate already fits: shrink it until the grid is over the limit
         for (std::size_t n = limit; too_small == 0.0 && fits > 1e-9 * scale.diagonal;) {
           const double s = fits / std::max(1.02, 1.0 / ratio(std::max<std::size_t>(n, 1)));
-          n = occupied_voxels(cloud, s);
+          n = occupied_voxels(cloud, bounds, s);
           (n > limit ? too_small : fits) = s;
         }
       }
       while (too_small > 0.0 && fits > 1.02 * too_small) {
         const double mid = std::sqrt(too_small * fits);
-        (occupied_voxels(cloud, mid) > limit ? too_small : fits) = mid;
+        (occupied_voxels(cloud, bounds, mid) > limit ? too_small : fits) = mid;
       }
       l = fits;
       keys = voxel_keys(cloud, l);

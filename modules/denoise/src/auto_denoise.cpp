@@ -116,12 +116,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       compute_face_geometry(pos, m.faces, at);  // one pass for the check and the displacement
       const double turned = turned_area_share(at, reference);
       bool fails = turned > std::max(input_turned, rules.turned_slack);
+      volume_failed = false;
       if (!fails && closed && std::abs(input_volume) > 0.0) {
         last_volume_change = std::abs(enclosed_volume(pos, m.faces) - input_volume) / std::abs(input_volume);
-        fails = last_volume_change > rules.max_volume_change;
-        volume_failed = fails;
-      } else {
-        volume_failed = false;
+        fails = volume_failed = last_volume_change > rules.max_volume_change;
       }
       if (!fails) {
         last_pass = it;
