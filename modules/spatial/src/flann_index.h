@@ -8,64 +8,6 @@
 namespace scanmesh::detail {
 
 class PointTree {
- public:
-  /// With `copy` the tree keeps its own copy of the points in tree order (faster queries on points in any
-  /// order); without, it reads `points` in place (24 bytes per point less; as fast when the points are
-  /// already in a spatial order, like the denoiser's faces). `points` must outlive the tree either way.
-  explicit PointTree(const std::vector<Vec3>& points, bool copy = true)
-      : data_(points.empty() ? nullptr : const_cast<double*>(points.data()->data()), points.size(), 3),
-        index_(data_, flann::KDTreeSingleIndexParams(12, copy)) {
-    if (!points.empty()) index_.buildIndex();
-  }
-
-  /// Indices within `radius` of q (unsorted).
-  void radius(const Vec3& q, double radius, std::vector<std::size_t>& out) const {
-    out.clear();
-    if (data_.rows == 0) return;
-    IndicesWithin found(static_cast<float>(radius * radius), out);
-    index_.findNeighbors(found, q.data(), single_query());
-  }
-
-  /// Indices within `radius` of each of the `count` points at `queries`, in one batched call that FLANN
-  /// spreads over `threads` threads; each row depends only on its query, so the result does not depend
-  /// on the thread count. Rows are unsorted; `dist` holds the squared distances, row by row in the same
-  /// order. With max_neighbours > 0, only the nearest max_neighbours of each row are kept.
-  void radius_all(const Vec3* queries, std::size_t count, double radius, int threads, std::vector<std::vector<std::size_t>>& out,
-                  std::vector<std::vector<double>>& dist, int max_neighbours = -1) const {
-    out.assign(count, {});
-    dist.assign(count, {});
-    if (data_.rows == 0 || count == 0) return;
-    flann::Matrix<double> q(const_cast<double*>(queries->data()), count, 3);
-    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-    params.sorted = false;
-    params.cores = threads;
-    params.max_neighbors = max_neighbours > 0 ? max_neighbours : -1;
-    index_.radiusSearch(q, out, dist, static_cast<float>(radius * radius), params);
-  }
-
-  /// The k nearest indices to q, nearest first, with squared distances.
-  void knn(const Vec3& q, std::size_t k, std::vector<std::size_t>& idx_out, std::vector<double>& dist_out) const {
-    idx_out.clear();
-    dist_out.clear();
-    if (data_.rows == 0) return;
-    k = std::min<std::size_t>(k, data_.rows);
-    // The result sets flann::Index::knnSearch would use (a heap above 250 neighbours), same results.
-    auto take = [&](auto& found) {
-      index_.findNeighbors(found, q.data(), single_query());
-      const std::size_t n = std::min(found.size(), k);
-      idx_out.resize(n);
-      dist_out.resize(n);
-      if (n > 0) found.copy(idx_out.data(), dist_out.data(), n, true);
-    };
-    if (k > 250) {
-      flann::KNNResultSet2<double> found(k);
-      take(found);
-    } else {
-      flann::KNNSimpleResultSet<double> found(k);
-      take(found);
-    }
-  }
-
  private:
   // flann::RadiusResultSet's test, appending the indices straight to the caller's vector (no distances
   // kept, nothing allocated per query once `out` has grown).
@@ -95,6 +37,83 @@ class PointTree {
     return p;
   }
 
+ public:
+  /// With `copy` the tree keeps its own copy of the points in tree order (faster queries on points in any
+  /// order); without, it reads `points` in place (24 bytes per point less; as fast when the points are
+  /// already in a spatial order, like the denoiser's faces). `points` must outlive the tree either way.
+  explicit PointTree(const std::vector<Vec3>& points, bool copy = true)
+      : data_(points.empty() ? nullptr : const_cast<double*>(points.data()->data()), points.size(), 3),
+        index_(data_, flann::KDTreeSingleIndexParams(12, copy)) {
+    if (!points.empty()) index_.buildIndex();
+  }
+
+  /// Indices within `radius` of q (unsorted).
+  void radius(const Vec3& q, double radius, std::vector<std::size_t>& out) const {
+    out.clear();
+    if (data_.rows == 0) return;
+    IndicesWithin found(static_cast<float>(radius * radius), out);
+    index_.findNeighbors(found, q.data(), single_query());
+  }
+
+  /// The points within `radius` of q, or only the `max_neighbours` nearest of them (max_neighbours > 0),
+  /// into `out` (unsorted); `found` is the caller's to reuse, so a loop of queries allocates nothing once
+  /// it has grown. FLANN compares in float: callers that need an exact radius search a little wider and
+  /// test the distances themselves.
+  class Nearest {
+   public:
+    Nearest(double radius, int max_neighbours)
+        : capped_(static_cast<float>(radius * radius), max_neighbours > 0 ? static_cast<std::size_t>(max_neighbours) : 1),
+          all_(static_cast<float>(radius * radius), all_out_), limit_(max_neighbours) {}
+    void search(const PointTree& tree, const Vec3& q, std::vector<std::size_t>& out) {
+      out.clear();
+      if (tree.data_.rows == 0) return;
+      if (limit_ <= 0) {
+        all_out_.clear();
+        tree.index_.findNeighbors(all_, q.data(), single_query());
+        out.swap(all_out_);
+        return;
+      }
+      capped_.clear();
+      tree.index_.findNeighbors(capped_, q.data(), single_query());
+      out.resize(capped_.size());
+      dist_.resize(capped_.size());
+      if (!out.empty()) capped_.copy(out.data(), dist_.data(), out.size(), false);
+    }
+    /// The squared distances of the last capped search's points, in the order of `out`.
+    [[nodiscard]] const std::vector<double>& distances() const { return dist_; }
+
+   private:
+    flann::KNNRadiusResultSet<double> capped_;
+    std::vector<std::size_t> all_out_;
+    IndicesWithin all_;
+    std::vector<double> dist_;
+    int limit_;
+  };
+
+  /// The k nearest indices to q, nearest first, with squared distances.
+  void knn(const Vec3& q, std::size_t k, std::vector<std::size_t>& idx_out, std::vector<double>& dist_out) const {
+    idx_out.clear();
+    dist_out.clear();
+    if (data_.rows == 0) return;
+    k = std::min<std::size_t>(k, data_.rows);
+    // The result sets flann::Index::knnSearch would use (a heap above 250 neighbours), same results.
+    auto take = [&](auto& found) {
+      index_.findNeighbors(found, q.data(), single_query());
+      const std::size_t n = std::min(found.size(), k);
+      idx_out.resize(n);
+      dist_out.resize(n);
+      if (n > 0) found.copy(idx_out.data(), dist_out.data(), n, true);
+    };
+    if (k > 250) {
+      flann::KNNResultSet2<double> found(k);
+      take(found);
+    } else {
+      flann::KNNSimpleResultSet<double> found(k);
+      take(found);
+    }
+  }
+
+ private:
   flann::Matrix<double> data_;
   mutable flann::KDTreeSingleIndex<flann::L2_Simple<double>> index_;
 };

@@ -12,10 +12,10 @@ namespace scanmesh {
 
 namespace {
 
-// The rows of radius_neighbourhoods, searched in blocks and handed to `take(first_row, rows, count)` one
-// block at a time: FLANN returns a row as a vector of 8-byte indices and one of 8-byte distances, which for
-// a whole mesh at once took more memory than everything else the denoiser holds, so each block is turned
-// into the caller's compact rows before the next is searched.
+// The rows of radius_neighbourhoods, handed to `take(first_row, rows, count)` a block at a time (so the
+// rows in flight stay small next to the caller's compact table). Each thread searches with its own result
+// set and each row's vector keeps its capacity from block to block: the search allocates nothing once it
+// has warmed up (FLANN's batched radiusSearch allocated two vectors per query, half its time).
 template <class Take>
 void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
                  bool spatially_ordered, Take take) {
@@ -24,36 +24,38 @@ void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbo
   const double r2 = radius * radius;
   std::size_t cut = 0;
   constexpr std::size_t kBlock = std::size_t{1} << 15;
-  std::vector<std::vector<std::size_t>> found;
-  std::vector<std::vector<double>> dist;
+  std::vector<std::vector<int>> rows(std::min(kBlock, n));
   for (std::size_t start = 0; start < n; start += kBlock) {
-    const std::size_t count = std::min(kBlock, n - start);
-    // FLANN takes the squared radius as float; search a little wider and decide in double below. With a
-    // cap, one more than the cap is asked for, to tell capped rows from full ones.
-    tree.radius_all(points.data() + start, count, radius * 1.001, thread_count(), found, dist,
-                    max_neighbours > 0 ? max_neighbours + 1 : -1);
-    const auto rows = static_cast<long>(count);
-#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : cut)
-    for (long r = 0; r < rows; ++r) {
-      auto& row = found[r];
-      if (max_neighbours > 0 && row.size() > static_cast<std::size_t>(max_neighbours)) {
-        // A full row holds the cap + 1 nearest: drop the farthest (ties: the larger index), which is
-        // what sorting by (distance, index) and keeping the first `cap` would do, without sorting.
-        const auto& d = dist[r];
-        std::size_t worst = 0;
-        for (std::size_t k = 1; k < row.size(); ++k)
-          if (d[k] > d[worst] || (d[k] == d[worst] && row[k] > row[worst])) worst = k;
-        row.erase(row.begin() + static_cast<long>(worst));
-        ++cut;
+    const auto count = static_cast<long>(std::min(kBlock, n - start));
+#pragma omp parallel reduction(+ : cut)
+    {
+      // FLANN takes the squared radius as float; search a little wider and decide in double below. With a
+      // cap, one more than the cap is asked for, to tell capped rows from full ones.
+      detail::PointTree::Nearest nearest(radius * 1.001, max_neighbours > 0 ? max_neighbours + 1 : -1);
+      std::vector<std::size_t> found;
+#pragma omp for schedule(dynamic, 1024)
+      for (long r = 0; r < count; ++r) {
+        const Vec3& p = points[start + static_cast<std::size_t>(r)];
+        nearest.search(tree, p, found);
+        if (max_neighbours > 0 && found.size() > static_cast<std::size_t>(max_neighbours)) {
+          // A full row holds the cap + 1 nearest: drop the farthest (ties: the larger index), which is
+          // what sorting by (distance, index) and keeping the first `cap` would do, without sorting.
+          const auto& d = nearest.distances();
+          std::size_t worst = 0;
+          for (std::size_t k = 1; k < found.size(); ++k)
+            if (d[k] > d[worst] || (d[k] == d[worst] && found[k] > found[worst])) worst = k;
+          found[worst] = found.back();
+          found.pop_back();
+          ++cut;
+        }
+        auto& row = rows[static_cast<std::size_t>(r)];
+        row.clear();
+        for (std::size_t j : found)
+          if ((points[j] - p).squaredNorm() <= r2) row.push_back(static_cast<int>(j));
+        std::sort(row.begin(), row.end());
       }
-      const Vec3& p = points[start + static_cast<std::size_t>(r)];
-      std::size_t kept = 0;
-      for (std::size_t j : row)
-        if ((points[j] - p).squaredNorm() <= r2) row[kept++] = j;
-      row.resize(kept);
-      std::sort(row.begin(), row.end());
     }
-    take(start, found, count);
+    take(start, rows, static_cast<std::size_t>(count));
   }
   if (capped != nullptr) *capped = cut;
 }
@@ -66,15 +68,14 @@ Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, 
   Adjacency a;
   a.offsets.assign(n + 1, 0);
   radius_rows(points, radius, max_neighbours, capped, spatially_ordered,
-              [&](std::size_t start, const std::vector<std::vector<std::size_t>>& found, std::size_t count) {
+              [&](std::size_t start, const std::vector<std::vector<int>>& found, std::size_t count) {
                 for (std::size_t r = 0; r < count; ++r)
                   a.offsets[start + r + 1] = a.offsets[start + r] + static_cast<int>(found[r].size());
                 // Room for every row, guessed from the first block's mean size (the vector still grows if short).
                 if (start == 0)
                   a.indices.reserve(static_cast<std::size_t>(1.05 * static_cast<double>(a.offsets[count]) / static_cast<double>(count) *
                                                              static_cast<double>(n)) + 16);
-                for (std::size_t r = 0; r < count; ++r)
-                  for (std::size_t j : found[r]) a.indices.push_back(static_cast<int>(j));
+                for (std::size_t r = 0; r < count; ++r) a.indices.insert(a.indices.end(), found[r].begin(), found[r].end());
               });
   return a;
 }
@@ -82,13 +83,10 @@ Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, 
 PackedRows packed_radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours,
                                         std::size_t* capped, bool spatially_ordered) {
   PackedRows a;
-  std::vector<int> row;
   radius_rows(points, radius, max_neighbours, capped, spatially_ordered,
-              [&](std::size_t start, const std::vector<std::vector<std::size_t>>& found, std::size_t count) {
-                for (std::size_t r = 0; r < count; ++r) {
-                  row.assign(found[r].begin(), found[r].end());
-                  a.append(static_cast<int>(start + r), row.data(), row.data() + row.size());
-                }
+              [&](std::size_t start, const std::vector<std::vector<int>>& found, std::size_t count) {
+                for (std::size_t r = 0; r < count; ++r)
+                  a.append(static_cast<int>(start + r), found[r].data(), found[r].data() + found[r].size());
                 if (start == 0)  // room for every row, guessed from the first block (still grows if short)
                   a.reserve(points.size(), static_cast<std::size_t>(1.05 * static_cast<double>(a.units()) / static_cast<double>(count) *
                                                                     static_cast<double>(points.size())) + 16);
