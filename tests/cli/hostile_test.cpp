@@ -221,9 +221,9 @@ TEST_F(Hostile, RunningOutOfMemoryIsAMessageNotACrash) {
 #ifdef SCANMESH_SANITIZED
   GTEST_SKIP() << "the memory guard is off under AddressSanitizer";
 #else
-  // A 51k-face plane denoised with a radius of 10 c_a (neighbourhoods of ~250 faces) peaks at ~210 MB;
-  // under a 200 MB limit of address space an allocation fails in the neighbourhood search (inside
-  // FLANN's parallel search with two threads), which must still end in exit code 1.
+  // A 51k-face plane denoised with a radius of 10 c_a (neighbourhoods of ~250 faces) needs ~140 MB of
+  // address space; under a 100 MB limit an allocation fails in the neighbourhood search (inside its
+  // parallel loop, two threads), which must still end in exit code 1.
   std::string off = "OFF\n" + std::to_string(161 * 161) + " " + std::to_string(2 * 160 * 160) + " 0\n";
   for (int j = 0; j <= 160; ++j)
     for (int i = 0; i <= 160; ++i) off += std::to_string(i) + " " + std::to_string(j) + " " + std::to_string(0.1 * ((i * 7 + j * 13) % 5)) + "\n";
@@ -234,7 +234,7 @@ TEST_F(Hostile, RunningOutOfMemoryIsAMessageNotACrash) {
              std::to_string(c) + " " + std::to_string(d) + "\n";
     }
   const std::string file = write("plane.off", off);
-  ::setenv("SCANMESH_MAX_MEMORY_MB", "200", 1);
+  ::setenv("SCANMESH_MAX_MEMORY_MB", "100", 1);
   const Outcome o = run_scanmesh({"denoise", file, path("out.off"), "--radius-factor", "10", "-q"}, path("err"));
   ::unsetenv("SCANMESH_MAX_MEMORY_MB");
   EXPECT_EQ(o.signal, 0);

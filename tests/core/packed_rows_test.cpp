@@ -62,3 +62,29 @@ TEST(PackedRows, MatchesTheAdjacencyItPacks) {
   const std::size_t plain = (a.offsets.size() + a.indices.size()) * sizeof(int);
   EXPECT_LT(p.bytes(), 0.6 * static_cast<double>(plain));
 }
+
+TEST(PackedRows, RowsAppendedTogetherEqualRowsAppendedOneByOne) {
+  // Blocks of rows anchored at their own index, near and far ones mixed, appended after a first row
+  // and block by block: the same table, unit for unit, as one append per row.
+  std::mt19937 rng(11);
+  std::vector<std::vector<int>> rows(5000);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int len = static_cast<int>(rng() % 12);
+    for (int k = 0; k < len; ++k) rows[i].push_back(std::max(0, static_cast<int>(i) - 300 + static_cast<int>(rng() % 600)));
+    if (rng() % 20 == 0) rows[i].push_back(static_cast<int>(rng() % 5000000));
+  }
+  PackedRows one, blocks;
+  for (std::size_t i = 0; i < rows.size(); ++i) one.append(static_cast<int>(i), rows[i].data(), rows[i].data() + rows[i].size());
+  blocks.append(0, rows[0].data(), rows[0].data() + rows[0].size());
+  for (std::size_t start = 1; start < rows.size(); start += 1234)
+    blocks.append_rows(static_cast<int>(start), rows.data() + start, std::min<std::size_t>(1234, rows.size() - start));
+  ASSERT_EQ(blocks.rows(), one.rows());
+  EXPECT_EQ(blocks.units(), one.units());
+  EXPECT_EQ(blocks.entries(), one.entries());
+  EXPECT_EQ(blocks.max_row(), one.max_row());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(row_of(blocks, i, static_cast<int>(i)), rows[i]) << "row " << i;
+    int n1 = -1, n2 = -1;
+    EXPECT_EQ(blocks.differences(i, n1) == nullptr, one.differences(i, n2) == nullptr) << "row " << i;
+  }
+}

@@ -85,8 +85,7 @@ PackedRows packed_radius_neighbourhoods(const std::vector<Vec3>& points, double 
   PackedRows a;
   radius_rows(points, radius, max_neighbours, capped, spatially_ordered,
               [&](std::size_t start, const std::vector<std::vector<int>>& found, std::size_t count) {
-                for (std::size_t r = 0; r < count; ++r)
-                  a.append(static_cast<int>(start + r), found[r].data(), found[r].data() + found[r].size());
+                a.append_rows(static_cast<int>(start), found.data(), count);
                 if (start == 0)  // room for every row, guessed from the first block (still grows if short)
                   a.reserve(points.size(), static_cast<std::size_t>(1.05 * static_cast<double>(a.units()) / static_cast<double>(count) *
                                                                     static_cast<double>(points.size())) + 16);

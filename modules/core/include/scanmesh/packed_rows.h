@@ -16,6 +16,9 @@ class PackedRows {
  public:
   /// Appends a row of indices `[first, last)` (each >= 0), to be read back with the same `anchor`.
   void append(int anchor, const int* first, const int* last);
+  /// Appends rows[0..count), row r anchored at first_anchor + r: the same table as appending them one by
+  /// one, packed in parallel.
+  void append_rows(int first_anchor, const std::vector<int>* rows, std::size_t count);
   /// Room for `rows` rows of `units` 16-bit units in all (one per index in rows of the first kind).
   void reserve(std::size_t rows, std::size_t units) {
     starts_.reserve(rows + 1);
