@@ -19,9 +19,15 @@ bool every_edge_kept(const Topology& topology, const std::vector<std::uint8_t>& 
 
 // True if a triangle's circumradius exceeds `limit` x its shortest edge (or it has no area), without roots:
 // R = abc / (4A), so R > limit x l_min  <=>  a^2 b^2 c^2 > limit^2 l_min^2 16 A^2, and 16 A^2 = 4 |cross|^2.
+// In scalars: Eigen's two-lane code for the cross product stored two halves and loaded them as one,
+// which stalled the store forwarding on every face (a third of the sliver pass).
 bool is_sliver(const Vec3& p, const Vec3& q, const Vec3& r, double limit) {
-  const double a2 = (q - r).squaredNorm(), b2 = (r - p).squaredNorm(), c2 = (p - q).squaredNorm();
-  const double cross2 = (q - p).cross(r - p).squaredNorm();
+  const double ux = q.x() - p.x(), uy = q.y() - p.y(), uz = q.z() - p.z();  // q - p
+  const double vx = r.x() - p.x(), vy = r.y() - p.y(), vz = r.z() - p.z();  // r - p
+  const double wx = r.x() - q.x(), wy = r.y() - q.y(), wz = r.z() - q.z();
+  const double a2 = wx * wx + wy * wy + wz * wz, b2 = vx * vx + vy * vy + vz * vz, c2 = ux * ux + uy * uy + uz * uz;
+  const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+  const double cross2 = cx * cx + cy * cy + cz * cz;
   return a2 * b2 * c2 > 4.0 * limit * limit * std::min({a2, b2, c2}) * cross2;
 }
 
@@ -123,22 +129,39 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
       if ((*terms.slivers)[*f]) return true;
     return false;
   };
-  auto centroid = [&](int f) -> Vec3 { return stored ? geometry.centroids[f] : face_centroid(positions, (*faces)[f]); };
+  // The tables as plain pointers: read through the captured vectors, every face in the loops below cost
+  // three dependent loads just to find the arrays again (the stores to `updated` might have changed them,
+  // as far as the compiler could tell).
+  const Vec3* const pos = positions.data();
+  const Face* const face = faces != nullptr ? faces->data() : nullptr;
+  const Vec3* const centroids = stored ? geometry.centroids.data() : nullptr;
+  const Vec3* const normal = filtered_normals.data();
+  const double* const face_area = geometry.areas.data();
+  const int* const vf_offsets = topology.vertex_faces.offsets.data();
+  const int* const vf = topology.vertex_faces.indices.data();
+  Vec3* const out = updated.data();
+  auto centroid = [centroids, face, pos](int f) -> Vec3 {
+    if (centroids != nullptr) return centroids[f];
+    const Face& t = face[f];
+    return (pos[t[0]] + pos[t[1]] + pos[t[2]]) / 3.0;  // face_centroid's bits
+  };
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
-    const Vec3& vi = positions[i];
-    const int nfaces = topology.vertex_faces.size(i);
+    const Vec3& vi = pos[i];
+    const int* const f_begin = vf + vf_offsets[i];
+    const int* const f_end = vf + vf_offsets[i + 1];
+    const auto nfaces = static_cast<int>(f_end - f_begin);
     if (nfaces == 0) {  // isolated vertex: nothing to fit
-      updated[i] = vi;
+      out[i] = vi;
       continue;
     }
     // Edge-normal orthogonality: move towards the planes of the filtered normals through the centroids.
     Vec3 fit = Vec3::Zero();
     Vec3 vertex_normal = Vec3::Zero();
-    for (const int* f = topology.vertex_faces.begin(i); f != topology.vertex_faces.end(i); ++f) {
-      const Vec3& n = filtered_normals[*f];
+    for (const int* f = f_begin; f != f_end; ++f) {
+      const Vec3& n = normal[*f];
       fit += n * n.dot(centroid(*f) - vi);
-      vertex_normal += geometry.areas[*f] * n;
+      vertex_normal += face_area[*f] * n;
     }
     fit /= static_cast<double>(nfaces);
     const double nlen = vertex_normal.norm();
@@ -148,7 +171,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     if (on_boundary && boundary->corner[i]) {
       // A corner of the boundary curve (or an irregular boundary vertex) has too few curve neighbours to
       // fit a curve: it follows its faces' filtered normals only.
-      updated[i] = vi + fit;
+      out[i] = vi + fit;
       continue;
     }
     if (on_boundary) {
@@ -169,7 +192,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
           r = 2.0 * d.dot(tu) * tu;
         }
       }
-      updated[i] = vi + lambda * r;
+      out[i] = vi + lambda * r;
       continue;
     }
     // D_i with w_ij = |v_i - v_j|^2, then R_i = D_i + tangential part of D_i.
@@ -177,8 +200,8 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
     Vec3 wsum = Vec3::Zero();
     double w = 0.0;
     neighbours.for_each(static_cast<std::size_t>(i), static_cast<int>(i), [&](int j) {
-      const double wij = (positions[j] - vi).squaredNorm();
-      wsum += wij * positions[j];
+      const double wij = (pos[j] - vi).squaredNorm();
+      wsum += wij * pos[j];
       w += wij;
     });
     const Vec3 d = w > 0.0 ? Vec3(wsum / w - vi) : Vec3::Zero();
@@ -197,7 +220,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
       if (feature_aware && feature == Feature::corner) r.setZero();
       if (feature_aware && feature == Feature::edge) r = 2.0 * d.dot(edge) * edge;
     }
-    updated[i] = vi + fit + lambda * r;
+    out[i] = vi + fit + lambda * r;
     if (sliver) {
       // The sliver guard: the edge-normal term pulls vertices near a sharp edge onto it, and once lambda
       // has decayed nothing spreads them again, so triangles there collapse into slivers and fold. A
@@ -206,7 +229,7 @@ void update_vertices(const std::vector<Vec3>& positions, const Topology& topolog
       Vec3 t = d - d.dot(vertex_normal) * vertex_normal;
       if (feature == Feature::corner) t.setZero();
       if (feature == Feature::edge) t = d.dot(edge) * edge;
-      updated[i] += kSliverStep * t;
+      out[i] += kSliverStep * t;
     }
   }
 }
