@@ -81,6 +81,23 @@ TEST(Topology, GridCounts) {
   EXPECT_EQ(t.boundary_loops[0].size(), 16u);
 }
 
+TEST(Topology, WithoutFaceFacesEverythingElseIsTheSame) {
+  // An open grid and a closed sphere: the lighter build differs only in face_faces.
+  for (const Mesh& m : {test::make_grid(5), test::make_sphere(2)}) {
+    const Topology full = build_topology(m), light = build_topology(m, false);
+    EXPECT_GT(full.face_faces.indices.size(), 0u);
+    EXPECT_TRUE(light.face_faces.indices.empty());
+    EXPECT_EQ(light.vertex_faces.offsets, full.vertex_faces.offsets);
+    EXPECT_EQ(light.vertex_faces.indices, full.vertex_faces.indices);
+    EXPECT_EQ(light.vertex_vertices.indices, full.vertex_vertices.indices);
+    EXPECT_EQ(light.edges, full.edges);
+    EXPECT_EQ(light.edge_faces.indices, full.edge_faces.indices);
+    EXPECT_EQ(light.face_edges, full.face_edges);
+    EXPECT_EQ(light.boundary_vertex, full.boundary_vertex);
+    EXPECT_EQ(light.boundary_loops, full.boundary_loops);
+  }
+}
+
 TEST(Mesh, ValidateNamesTheProblem) {
   Mesh m = test::make_grid(1);
   m.faces[1][2] = 7;

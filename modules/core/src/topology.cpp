@@ -48,7 +48,7 @@ std::size_t Topology::num_nonmanifold_edges() const {
   return n;
 }
 
-Topology build_topology(const Mesh& mesh) {
+Topology build_topology(const Mesh& mesh, bool with_face_faces) {
   Topology t;
   const std::size_t nv = mesh.num_vertices();
   const std::size_t nf = mesh.num_faces();
@@ -130,9 +130,10 @@ Topology build_topology(const Mesh& mesh) {
     sort_unique_rows(t.vertex_vertices);
   }
 
-  {  // face -> edge-adjacent faces. Across a non-manifold edge (k > 2 faces) each face is linked to the
-     // faces before and after it on that edge only, so a fan of k faces costs O(k) links, not O(k^2),
-     // and stays connected.
+  // face -> edge-adjacent faces. Across a non-manifold edge (k > 2 faces) each face is linked to the
+  // faces before and after it on that edge only, so a fan of k faces costs O(k) links, not O(k^2), and
+  // stays connected.
+  if (with_face_faces) {
     std::vector<std::pair<int, int>> pairs;
     pairs.reserve(2 * t.edge_faces.indices.size());
     for (std::size_t e = 0; e < t.edges.size(); ++e) {

@@ -230,9 +230,10 @@ const PackedRows& input_neighbourhoods(DenoiseCache::State* cached, const Topolo
   return out;
 }
 
-// `mesh`'s topology: the one the cache holds for it, taken out of the cache, or built.
-Topology take_topology(DenoiseCache::State* cached, const Mesh& mesh) {
-  if (cached == nullptr || !cached->topology) return build_topology(mesh);
+// `mesh`'s topology: the one the cache holds for it, taken out of the cache, or built (face_faces only
+// `with_face_faces`).
+Topology take_topology(DenoiseCache::State* cached, const Mesh& mesh, bool with_face_faces) {
+  if (cached == nullptr || !cached->topology) return build_topology(mesh, with_face_faces);
   Topology t = std::move(*cached->topology);
   cached->topology.reset();
   return t;
@@ -257,7 +258,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   } restore{mesh, scale};
   for (auto& p : mesh.positions) p *= scale;
 
-  Topology topology = take_topology(cached, mesh);
+  Topology topology = take_topology(cached, mesh, options.neighbourhood == NeighbourhoodKind::connected_ball);
   BoundaryCurves curves;
   const bool boundary = options.keep_boundary && topology.num_boundary_edges() > 0;
   if (boundary) curves = build_boundary_curves(mesh, topology);

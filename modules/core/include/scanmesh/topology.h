@@ -42,8 +42,9 @@ struct Topology {
   [[nodiscard]] std::size_t num_nonmanifold_edges() const;
 };
 
-/// Builds all of the above in O(F log F). Face indices must be valid (see validate_mesh).
-Topology build_topology(const Mesh& mesh);
+/// Builds all of the above in O(F log F). Face indices must be valid (see validate_mesh). Without
+/// `with_face_faces`, face_faces is left empty (the denoiser's ball neighbourhoods do not need it).
+Topology build_topology(const Mesh& mesh, bool with_face_faces = true);
 
 /// Number of connected components (through shared vertices) among vertices used by faces.
 std::size_t count_components(const Mesh& mesh, const Topology& topology);
