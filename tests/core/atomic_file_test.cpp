@@ -86,3 +86,23 @@ TEST_F(AtomicFile, MissingOrReadOnlyFoldersFailBeforeWriting) {
   EXPECT_THROW(check_writable(dir_.string()), OutputError);  // a folder is not a file to write
   EXPECT_NO_THROW(check_writable(path("out.ply")));
 }
+
+TEST_F(AtomicFile, AStreamedFileIsWrittenPieceByPieceAndAFailedOneLeavesNothing) {
+  OutputTransaction t;
+  t.write_with(path("s.txt"), [](const ByteSink& sink) {
+    for (int i = 0; i < 1000; ++i) sink(std::to_string(i) + ",");
+  });
+  t.commit();
+  std::string expected;
+  for (int i = 0; i < 1000; ++i) expected += std::to_string(i) + ",";
+  EXPECT_EQ(read_file(path("s.txt")), expected);
+  // A producer that fails half way: no file, no temporary, the error as it was thrown.
+  EXPECT_THROW(write_file_atomically(path("f.txt"),
+                                     [](const ByteSink& sink) {
+                                       sink("half");
+                                       throw InputError("the data ran out");
+                                     }),
+               InputError);
+  EXPECT_FALSE(fs::exists(path("f.txt")));
+  EXPECT_TRUE(temporaries().empty());
+}

@@ -197,3 +197,37 @@ TEST_F(MeshIo, FailedWriteLeavesNoFile) {
   for (const auto& e : fs::directory_iterator(dir_)) files += e.path().filename().string()[0] == '.' ? 100 : 1;
   EXPECT_EQ(files, 1u) << "temporary files left behind";
 }
+
+TEST_F(MeshIo, WritersStreamTheirFilesInPiecesOfAboutAMegabyte) {
+  // A sphere of 82k faces with a colour: a few megabytes in every format. Streamed, no piece is much
+  // larger than a megabyte, the pieces add up to the file encode_mesh makes, and the written file reads
+  // back to the same mesh.
+  Mesh m = test::make_sphere(6);
+  for (const char* c : {"red", "green", "blue"}) {
+    VertexProperty p;
+    p.name = c;
+    p.type = ScalarType::uint8;
+    p.values.assign(m.num_vertices(), 200.0);
+    m.vertex_properties.push_back(p);
+  }
+  for (const char* ext : {".ply", ".obj", ".off", ".stl"})
+    for (bool binary : {true, false}) {
+      WriteOptions w;
+      w.binary = binary;
+      std::string joined;
+      std::size_t pieces = 0, largest = 0;
+      encode_mesh(m, ext, w, [&](std::string_view piece) {
+        joined += piece;
+        ++pieces;
+        largest = std::max(largest, piece.size());
+      });
+      const std::string whole = encode_mesh(m, ext, w);
+      EXPECT_GT(whole.size(), 2u << 20) << ext;
+      EXPECT_EQ(joined, whole) << ext;
+      EXPECT_GT(pieces, 2u) << ext;
+      EXPECT_LT(largest, (1u << 20) + 4096) << ext;
+      const std::string file = path(std::string("s") + (binary ? "b" : "a") + ext);
+      write_mesh(m, file, w);
+      EXPECT_EQ(read_file(file), whole) << ext;
+    }
+}

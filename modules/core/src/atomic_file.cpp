@@ -112,6 +112,10 @@ OutputTransaction::~OutputTransaction() {
 }
 
 void OutputTransaction::write(const std::string& path, std::string_view bytes) {
+  write_with(path, [bytes](const ByteSink& sink) { sink(bytes); });
+}
+
+void OutputTransaction::write_with(const std::string& path, const std::function<void(const ByteSink&)>& produce) {
   const fs::path target(path);
   check_writable(path);
   remove_stale_temporaries(target);
@@ -119,19 +123,25 @@ void OutputTransaction::write(const std::string& path, std::string_view bytes) {
   const int fd = ::mkstemp(tmpl.data());
   if (fd < 0) fail(path, std::strerror(errno));
   Impl::Entry entry{path, tmpl, register_temporary(tmpl)};
-  const char* p = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const std::string why = std::strerror(errno);
-      ::close(fd);
-      impl_->discard(entry);
-      fail(path, why);
+  const ByteSink sink = [&](std::string_view bytes) {
+    const char* p = bytes.data();
+    std::size_t left = bytes.size();
+    while (left > 0) {
+      const ssize_t n = ::write(fd, p, left);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        fail(path, std::strerror(errno));
+      }
+      p += n;
+      left -= static_cast<std::size_t>(n);
     }
-    p += n;
-    left -= static_cast<std::size_t>(n);
+  };
+  try {
+    produce(sink);
+  } catch (...) {
+    ::close(fd);
+    impl_->discard(entry);
+    throw;
   }
   // Give the file ordinary permissions (mkstemp creates it 0600), respecting the umask.
   const mode_t mask = ::umask(0);
@@ -192,6 +202,12 @@ std::vector<std::string> OutputTransaction::targets() const {
 void write_file_atomically(const std::string& path, std::string_view bytes) {
   OutputTransaction t;
   t.write(path, bytes);
+  t.commit();
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(const ByteSink&)>& produce) {
+  OutputTransaction t;
+  t.write_with(path, produce);
   t.commit();
 }
 

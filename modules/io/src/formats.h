@@ -4,6 +4,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scanmesh/atomic_file.h"
 #include "scanmesh/mesh.h"
 #include "scanmesh/mesh_io.h"
 
@@ -15,10 +16,11 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
               bool require_faces = true, RangeGrid* grid = nullptr);
 Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
 
-std::string write_obj(const Mesh& mesh);
-std::string write_off(const Mesh& mesh);
-std::string write_ply(const Mesh& mesh, bool binary);
-std::string write_stl(const Mesh& mesh, bool binary);
+// Writers hand their file to `sink` in pieces of about a megabyte.
+void write_obj(const Mesh& mesh, const ByteSink& sink);
+void write_off(const Mesh& mesh, const ByteSink& sink);
+void write_ply(const Mesh& mesh, bool binary, const ByteSink& sink);
+void write_stl(const Mesh& mesh, bool binary, const ByteSink& sink);
 
 /// Appends fan triangles of a polygon; counts polygons with more than three corners.
 void add_polygon(Mesh& mesh, const std::vector<int>& corners, std::size_t& polygons_split);

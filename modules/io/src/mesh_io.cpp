@@ -73,12 +73,18 @@ Mesh read_ply_points(const std::string& path, std::vector<std::string>* warnings
   return decode_ply_points(read_file(path), path, warnings);
 }
 
-std::string encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options) {
-  if (extension == ".obj") return detail::write_obj(mesh);
-  if (extension == ".off") return detail::write_off(mesh);
-  if (extension == ".ply") return detail::write_ply(mesh, options.binary);
-  if (extension == ".stl") return detail::write_stl(mesh, options.binary);
+void encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options, const ByteSink& sink) {
+  if (extension == ".obj") return detail::write_obj(mesh, sink);
+  if (extension == ".off") return detail::write_off(mesh, sink);
+  if (extension == ".ply") return detail::write_ply(mesh, options.binary, sink);
+  if (extension == ".stl") return detail::write_stl(mesh, options.binary, sink);
   throw UsageError("unknown mesh format '" + extension + "'; supported: .obj .off .ply .stl");
+}
+
+std::string encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options) {
+  std::string out;
+  encode_mesh(mesh, extension, options, [&out](std::string_view piece) { out += piece; });
+  return out;
 }
 
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options) {
@@ -86,7 +92,7 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
   if (!is_mesh_extension(ext))
     throw UsageError("output '" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .obj .off .ply .stl");
-  write_file_atomically(path, encode_mesh(mesh, ext, options));
+  write_file_atomically(path, [&](const ByteSink& sink) { encode_mesh(mesh, ext, options, sink); });
 }
 
 }  // namespace scanmesh

@@ -73,10 +73,8 @@ Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::s
   return mesh;
 }
 
-std::string write_obj(const Mesh& mesh) {
-  std::string out;
-  out.reserve(mesh.num_vertices() * 40 + mesh.num_faces() * 24);
-  out += "# scanmesh: ";
+void write_obj(const Mesh& mesh, const ByteSink& sink) {
+  std::string out = "# scanmesh: ";
   append_int(out, static_cast<long long>(mesh.num_vertices()));
   out += " vertices, ";
   append_int(out, static_cast<long long>(mesh.num_faces()));
@@ -96,6 +94,7 @@ std::string write_obj(const Mesh& mesh) {
       append_double(out, colours.b->values[v] / 255.0);
       out += '\n';
     }
+    flush_if_full(out, sink);
   }
   for (const Face& f : mesh.faces) {
     out += "f ";
@@ -103,8 +102,9 @@ std::string write_obj(const Mesh& mesh) {
       append_int(out, f[k] + 1);
       out += k < 2 ? ' ' : '\n';
     }
+    flush_if_full(out, sink);
   }
-  return out;
+  sink(out);
 }
 
 }  // namespace scanmesh::detail

@@ -89,10 +89,9 @@ Mesh read_off(std::string_view data, const std::string& file, std::vector<std::s
   return mesh;
 }
 
-std::string write_off(const Mesh& mesh) {
+void write_off(const Mesh& mesh, const ByteSink& sink) {
   const ColourView colours = find_colours(mesh);
   std::string out = colours ? "COFF\n" : "OFF\n";
-  out.reserve(mesh.num_vertices() * 40 + mesh.num_faces() * 24);
   append_int(out, static_cast<long long>(mesh.num_vertices()));
   out += ' ';
   append_int(out, static_cast<long long>(mesh.num_faces()));
@@ -110,9 +109,10 @@ std::string write_off(const Mesh& mesh) {
       append_int(out, static_cast<long long>(colours.b->values[v]));
       out += '\n';
     }
+    flush_if_full(out, sink);
   }
-  append_counted_faces(out, mesh.faces);
-  return out;
+  append_counted_faces(out, mesh.faces, sink);
+  sink(out);
 }
 
 }  // namespace scanmesh::detail

@@ -40,7 +40,7 @@ void append_ascii(std::string& out, ScalarType t, double v) {
 
 }  // namespace
 
-std::string write_ply(const Mesh& mesh, bool binary) {
+void write_ply(const Mesh& mesh, bool binary, const ByteSink& sink) {
   std::string out = "ply\nformat ";
   out += binary ? "binary_little_endian" : "ascii";
   out += " 1.0\ncomment written by scanmesh\nelement vertex ";
@@ -58,14 +58,15 @@ std::string write_ply(const Mesh& mesh, bool binary) {
   out += "\nproperty list uchar int vertex_indices\nend_header\n";
   const std::size_t nv = mesh.num_vertices();
   if (binary) {
-    out.reserve(out.size() + nv * (24 + 4 * mesh.vertex_properties.size()) + mesh.num_faces() * 13);
     for (std::size_t v = 0; v < nv; ++v) {
       for (int c = 0; c < 3; ++c) store(out, mesh.positions[v][c]);
       for (const auto& p : mesh.vertex_properties) store_as(out, p.type, p.values[v]);
+      flush_if_full(out, sink);
     }
     for (const Face& f : mesh.faces) {
       store(out, static_cast<std::uint8_t>(3));
       for (int k = 0; k < 3; ++k) store(out, static_cast<std::int32_t>(f[k]));
+      flush_if_full(out, sink);
     }
   } else {
     for (std::size_t v = 0; v < nv; ++v) {
@@ -78,10 +79,11 @@ std::string write_ply(const Mesh& mesh, bool binary) {
         out += ' ';
       }
       out.back() = '\n';
+      flush_if_full(out, sink);
     }
-    append_counted_faces(out, mesh.faces);
+    append_counted_faces(out, mesh.faces, sink);
   }
-  return out;
+  sink(out);
 }
 
 }  // namespace scanmesh::detail

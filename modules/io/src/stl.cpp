@@ -126,14 +126,13 @@ Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::s
                    " bytes) and not ASCII STL");
 }
 
-std::string write_stl(const Mesh& mesh, bool binary) {
+void write_stl(const Mesh& mesh, bool binary, const ByteSink& sink) {
   std::string out;
   if (binary) {
     out.assign(80, ' ');
     std::memcpy(out.data(), "binary STL written by scanmesh", 30);
     const auto n = static_cast<std::uint32_t>(mesh.num_faces());
     out.append(reinterpret_cast<const char*>(&n), 4);
-    out.reserve(84 + 50 * mesh.num_faces());
     for (const Face& f : mesh.faces) {
       const Vec3 nrm = (mesh.positions[f[1]] - mesh.positions[f[0]]).cross(mesh.positions[f[2]] - mesh.positions[f[0]]).normalized();
       float buf[12];
@@ -142,8 +141,10 @@ std::string write_stl(const Mesh& mesh, bool binary) {
         for (int c = 0; c < 3; ++c) buf[3 + 3 * k + c] = static_cast<float>(mesh.positions[f[k]][c]);
       out.append(reinterpret_cast<const char*>(buf), 48);
       out.append(2, '\0');
+      flush_if_full(out, sink);
     }
-    return out;
+    sink(out);
+    return;
   }
   out = "solid scanmesh\n";
   for (const Face& f : mesh.faces) {
@@ -163,9 +164,10 @@ std::string write_stl(const Mesh& mesh, bool binary) {
       }
     }
     out += " endloop\nendfacet\n";
+    flush_if_full(out, sink);
   }
   out += "endsolid scanmesh\n";
-  return out;
+  sink(out);
 }
 
 }  // namespace scanmesh::detail

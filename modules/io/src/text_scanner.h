@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "scanmesh/atomic_file.h"
 #include "scanmesh/errors.h"
 
 namespace scanmesh::detail {
@@ -138,15 +139,25 @@ inline void append_int(std::string& out, long long v) {
   out.append(buf, p);
 }
 
-/// Appends "3 a b c" lines (0-based indices), the face list of OFF and ascii PLY.
+/// Writers stream their files: they build a piece in a string and hand it to the sink (emptying the
+/// string) whenever it holds a megabyte, so a file is never held whole in memory.
+constexpr std::size_t kWriteChunk = std::size_t{1} << 20;
+inline void flush_if_full(std::string& out, const ByteSink& sink) {
+  if (out.size() < kWriteChunk) return;
+  sink(out);
+  out.clear();
+}
+
+/// Appends "3 a b c" lines (0-based indices), the face list of OFF and ascii PLY, streaming as above.
 template <typename Faces>
-void append_counted_faces(std::string& out, const Faces& faces) {
+void append_counted_faces(std::string& out, const Faces& faces, const ByteSink& sink) {
   for (const auto& f : faces) {
     out += "3 ";
     for (int k = 0; k < 3; ++k) {
       append_int(out, f[k]);
       out += k < 2 ? ' ' : '\n';
     }
+    flush_if_full(out, sink);
   }
 }
 

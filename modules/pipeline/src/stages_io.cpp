@@ -93,7 +93,7 @@ struct WriterStage : Stage {
         if (!p.allFinite()) throw InputError("the mesh has non-finite coordinates; nothing is written");
       WriteOptions w;
       w.binary = !o.ascii;
-      ctx.outputs->write(o.filename, encode_mesh(*d.mesh, ext, w));
+      ctx.outputs->write_with(o.filename, [&](const ByteSink& sink) { encode_mesh(*d.mesh, ext, w, sink); });
     } else if (d.cloud) {
       if (d.cloud->finite_count() == 0) throw InputError("nothing to write: the cloud has no points");
       ctx.outputs->write(o.filename, encode_cloud(*d.cloud, ext == ".pcd" ? ".pcd" : ".ply"));

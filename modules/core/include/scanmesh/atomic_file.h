@@ -1,12 +1,16 @@
 #pragma once
 // Outputs are written atomically: into a unique hidden temporary file beside the target, then renamed
 // over it, so an interrupted or failed run never leaves a half-written file under the final name.
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace scanmesh {
+
+/// Where an encoder hands its bytes, a piece at a time.
+using ByteSink = std::function<void(std::string_view)>;
 
 /// The files of one run, made visible together. write() puts each into a hidden temporary beside its
 /// target (".NAME.tmp.PID.XXXXXX", fsynced); commit() renames them all, the first written last (so a run
@@ -25,6 +29,10 @@ class OutputTransaction {
   /// Writes `bytes` for `path` (replacing an earlier write to the same path in this transaction).
   /// Throws OutputError naming the path if the folder is missing or the write fails.
   void write(const std::string& path, std::string_view bytes);
+  /// The same, streamed: `produce` calls the sink with the file's bytes in as many pieces as it likes,
+  /// each written as it comes (a large mesh is never held twice, once as a mesh and once as a file).
+  /// An exception from `produce` removes the temporary and propagates.
+  void write_with(const std::string& path, const std::function<void(const ByteSink&)>& produce);
   /// Renames every written file into place. Throws OutputError (and removes what is left) on failure.
   void commit();
   /// The targets written so far, in order.
@@ -37,6 +45,8 @@ class OutputTransaction {
 
 /// Writes `bytes` to `path` atomically (a transaction of one file). Throws OutputError naming the path.
 void write_file_atomically(const std::string& path, std::string_view bytes);
+/// Streams a file to `path` atomically (see OutputTransaction::write_with).
+void write_file_atomically(const std::string& path, const std::function<void(const ByteSink&)>& produce);
 
 /// Throws OutputError naming `path` unless its folder exists and this process may create files in it.
 void check_writable(const std::string& path);

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scanmesh/atomic_file.h"
 #include "scanmesh/mesh.h"
 
 namespace scanmesh {
@@ -50,6 +51,8 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
 
 /// Serialises a mesh into memory in the format given by `extension` (".ply", ".obj", ...).
 std::string encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options = {});
+/// The same bytes handed to `sink` in pieces of about a megabyte (what write_mesh streams to its file).
+void encode_mesh(const Mesh& mesh, const std::string& extension, const WriteOptions& options, const ByteSink& sink);
 
 /// Lower-case extension of a path including the dot (".ply"), or "" if none.
 std::string lower_extension(const std::string& path);
