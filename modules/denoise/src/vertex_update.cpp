@@ -24,7 +24,7 @@ bool every_edge_kept(const Topology& topology, const std::vector<std::uint8_t>& 
 bool is_sliver(const Vec3& p, const Vec3& q, const Vec3& r, double limit) {
   const double ux = q.x() - p.x(), uy = q.y() - p.y(), uz = q.z() - p.z();  // q - p
   const double vx = r.x() - p.x(), vy = r.y() - p.y(), vz = r.z() - p.z();  // r - p
-  const double wx = r.x() - q.x(), wy = r.y() - q.y(), wz = r.z() - q.z();
+  const double wx = r.x() - q.x(), wy = r.y() - q.y(), wz = r.z() - q.z();  // r - q
   const double a2 = wx * wx + wy * wy + wz * wz, b2 = vx * vx + vy * vy + vz * vz, c2 = ux * ux + uy * uy + uz * uz;
   const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
   const double cross2 = cx * cx + cy * cy + cz * cz;

@@ -55,10 +55,10 @@ class PointTree {
     index_.findNeighbors(found, q.data(), single_query());
   }
 
-  /// The points within `radius` of q, or only the `max_neighbours` nearest of them (max_neighbours > 0),
-  /// into `out` (unsorted); `found` is the caller's to reuse, so a loop of queries allocates nothing once
-  /// it has grown. FLANN compares in float: callers that need an exact radius search a little wider and
-  /// test the distances themselves.
+  /// A radius search to run many times, one per thread: search() puts the points within `radius` of q,
+  /// or only the `max_neighbours` nearest of them (max_neighbours > 0), into `out` (unsorted). The result
+  /// set and `out` are reused, so a loop of queries allocates nothing once they have grown. FLANN compares
+  /// in float: callers that need an exact radius search a little wider and test the distances themselves.
   class Nearest {
    public:
     Nearest(double radius, int max_neighbours)

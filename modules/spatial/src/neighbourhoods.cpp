@@ -14,8 +14,9 @@ namespace {
 
 // The rows of radius_neighbourhoods, handed to `take(first_row, rows, count)` a block at a time (so the
 // rows in flight stay small next to the caller's compact table). Each thread searches with its own result
-// set and each row's vector keeps its capacity from block to block: the search allocates nothing once it
-// has warmed up (FLANN's batched radiusSearch allocated two vectors per query, half its time).
+// set and each row's vector keeps its capacity from block to block, so the search allocates nothing once
+// it has warmed up (FLANN's batched radiusSearch allocated an index and a distance vector per query and
+// scaled worse on two threads).
 template <class Take>
 void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
                  bool spatially_ordered, Take take) {
