@@ -290,6 +290,14 @@ __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, cons
   const auto* base = reinterpret_cast<const float*>(k.faces);
   Group<8> q{};
   for (long i = first; i < last; ++i) {
+    // The records of the neighbours of the face eight ahead are asked for now: on meshes whose records
+    // outgrow the caches the kernel waited on those loads (the Morton order keeps most neighbours near,
+    // not all of them).
+    if (i + 8 < last) {
+      int ahead = 0;
+      if (const std::uint16_t* d = nbh.differences(i + 8, ahead))
+        for (int l = 0; l < ahead; ++l) __builtin_prefetch(base + 8 * static_cast<std::ptrdiff_t>(i + 8 + static_cast<std::int16_t>(d[l])));
+    }
     FaceTerms<8> t(k.faces[i], k.widths(i));
     const auto self = static_cast<int>(i);
     alignas(32) int index[8];
