@@ -8,6 +8,7 @@
 
 #include <immintrin.h>
 
+#include "scanmesh/memory.h"
 #include "scanmesh/neighbourhoods.h"
 
 namespace scanmesh {
@@ -159,6 +160,11 @@ void pack_faces(const FaceGeometry& g, const FilterWork* work, std::vector<Packe
     throw std::logic_error("filter_face_normals: geometry without centroids and no positions to compute them from");
   auto centroid = [&](long f) -> Vec3 { return stored ? g.centroids[f] : face_centroid(*work->positions, (*work->faces)[f]); };
   const Vec3 mid = nf > 0 ? centroid(0) : Vec3::Zero();
+  if (out.capacity() < g.normals.size()) {  // the neighbours' records are read at random: huge pages
+    std::vector<PackedFace>().swap(out);
+    out.reserve(g.normals.size());
+    advise_huge_pages(out.data(), g.normals.size() * sizeof(PackedFace));
+  }
   out.resize(g.normals.size());
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nf; ++i) {
