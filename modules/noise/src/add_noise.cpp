@@ -51,7 +51,8 @@ double add_noise(Mesh& mesh, const NoiseOptions& o) {
   if (!std::isfinite(o.level) || o.level < 0.0) throw UsageError("noise level must be >= 0; got " + std::to_string(o.level));
   if (!(o.impulsive_fraction > 0.0 && o.impulsive_fraction <= 1.0))
     throw UsageError("impulsive fraction must be in (0, 1]; got " + std::to_string(o.impulsive_fraction));
-  const Topology topology = build_topology(mesh);
+  // Only the edges and the vertex -> face lists are read: no face -> face table.
+  const Topology topology = build_topology(mesh, false);
   const double sigma = o.level * mean_edge_length(mesh, topology);
   std::vector<Vec3> normals;
   if (o.direction == NoiseDirection::normal) {
