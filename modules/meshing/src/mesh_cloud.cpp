@@ -57,8 +57,6 @@ std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
 // The virtual scans (4 views) of train/'s models: closed ones 0.02-0.09, open sheets and the beetle's
 // shell 0.78-0.85; real clouds reaching this step (hippo1) 0.
 constexpr double kOpposedShare = 0.3;
-// How often a PCL step that reports nothing itself says it is still running, seconds.
-constexpr double kHeartbeatSeconds = 10.0;
 
 // Share of the points with a neighbour within 1.5 spacings whose normal points the other way
 // (n_i . n_j < -0.5): a sheet seen from both sides, each view's normals facing its own sensor, or parts

@@ -8,6 +8,10 @@
 
 namespace scanmesh {
 
+/// How often a long step without progress lines of its own says it is still running, seconds: the
+/// pipeline's stages and the PCL meshing calls inside a stage use the same period.
+constexpr double kHeartbeatSeconds = 10.0;
+
 /// While alive, calls `say(seconds since construction)` every `period_seconds` from a thread of its own.
 /// A step shorter than the period says nothing; destruction stops and joins the thread at once (it does
 /// not wait for the period to end). `say` must not race with the caller: use it around a call during

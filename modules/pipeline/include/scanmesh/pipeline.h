@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scanmesh/errors.h"
+#include "scanmesh/heartbeat.h"
 #include "scanmesh/schema.h"
 
 namespace scanmesh {
@@ -38,7 +39,7 @@ struct PipelineOptions {
   std::function<void(const std::string&)> log;
   /// A stage without progress lines of its own (reading, cloud clean-up, normals, mesh clean-up, ...)
   /// says "TYPE: still running (N s)" through `log` this often while it runs; 0 = never.
-  double heartbeat_seconds = 10.0;
+  double heartbeat_seconds = kHeartbeatSeconds;
 };
 
 /// One stage given in code (what the command-line verbs build): its type, tag and options as text, each
