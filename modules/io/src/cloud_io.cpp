@@ -205,14 +205,24 @@ Mesh cloud_as_mesh(const PointCloud& cloud) {
 
 }  // namespace
 
-std::string encode_cloud(const PointCloud& cloud, const std::string& extension) {
-  if (extension == ".pcd") return detail::encode_pcd(cloud);
-  if (extension == ".ply") return encode_mesh(cloud_as_mesh(cloud), ".ply");
+void encode_cloud(const PointCloud& cloud, const std::string& extension, const ByteSink& sink) {
+  if (extension == ".pcd") return sink(detail::encode_pcd(cloud));
+  if (extension == ".ply") return encode_mesh(cloud_as_mesh(cloud), ".ply", {}, sink);
   throw UsageError("cannot write a point cloud as '" + extension + "'; use .ply or .pcd");
 }
 
-void write_cloud_ply(const PointCloud& cloud, const std::string& path) { write_file_atomically(path, encode_cloud(cloud, ".ply")); }
+std::string encode_cloud(const PointCloud& cloud, const std::string& extension) {
+  std::string out;
+  encode_cloud(cloud, extension, [&out](std::string_view piece) { out += piece; });
+  return out;
+}
 
-void write_cloud_pcd(const PointCloud& cloud, const std::string& path) { write_file_atomically(path, encode_cloud(cloud, ".pcd")); }
+void write_cloud_ply(const PointCloud& cloud, const std::string& path) {
+  write_file_atomically(path, [&](const ByteSink& sink) { encode_cloud(cloud, ".ply", sink); });
+}
+
+void write_cloud_pcd(const PointCloud& cloud, const std::string& path) {
+  write_file_atomically(path, [&](const ByteSink& sink) { encode_cloud(cloud, ".pcd", sink); });
+}
 
 }  // namespace scanmesh

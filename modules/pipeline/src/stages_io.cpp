@@ -96,7 +96,7 @@ struct WriterStage : Stage {
       ctx.outputs->write_with(o.filename, [&](const ByteSink& sink) { encode_mesh(*d.mesh, ext, w, sink); });
     } else if (d.cloud) {
       if (d.cloud->finite_count() == 0) throw InputError("nothing to write: the cloud has no points");
-      ctx.outputs->write(o.filename, encode_cloud(*d.cloud, ext == ".pcd" ? ".pcd" : ".ply"));
+      ctx.outputs->write_with(o.filename, [&](const ByteSink& sink) { encode_cloud(*d.cloud, ext == ".pcd" ? ".pcd" : ".ply", sink); });
     } else {
       throw InputError("nothing to write: the pipeline produced neither a cloud nor a mesh");
     }

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scanmesh/atomic_file.h"
 #include "scanmesh/point_cloud.h"
 
 namespace scanmesh {
@@ -47,6 +48,9 @@ bool holds_cloud(const std::string& path);
 
 /// A cloud encoded for a file with extension `extension`: ".pcd" (binary_compressed) or ".ply" (binary).
 std::string encode_cloud(const PointCloud& cloud, const std::string& extension);
+/// The same bytes handed to `sink`: PLY in pieces of about a megabyte (as encode_mesh), PCD in one piece
+/// (its binary_compressed block is compressed whole).
+void encode_cloud(const PointCloud& cloud, const std::string& extension, const ByteSink& sink);
 
 /// Writes a cloud as binary PLY (positions, normals and colours when present), atomically.
 void write_cloud_ply(const PointCloud& cloud, const std::string& path);
