@@ -23,6 +23,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <string>
@@ -142,8 +143,11 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   return e ? Outcome{e->msae, e->flips, "sharp", e->it} : Outcome{p.noisy_msae, p.noisy_flips, "sharp", 0};
 }
 
-std::vector<Candidate> candidates() {
+// `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
+std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas) {
   std::vector<Candidate> out;
+  for (double sharp_lambda : sharp_lambdas)
+  for (double smooth_lambda : smooth_lambdas)
   for (double imp : {0.011})
     for (double oj : {4.0, 6.0})
       for (int ni : {50, 100})
@@ -165,7 +169,8 @@ std::vector<Candidate> candidates() {
                       r.outlier_jump = oj;
                       r.impulsive_iterations = ni;
                       r.sharp_sigma = sharp == 0 ? 0.7 : 0.55;
-                      r.sharp_lambda = sharp == 0 ? 0.2 : 0.3;
+                      r.sharp_lambda = sharp == 0 ? sharp_lambda : 0.3;
+                      r.smooth_lambda = smooth_lambda;
                       r.probe_iterations = probe;
                       r.crease_share = crease;
                       r.crease_share_per_level = slope;
@@ -193,7 +198,26 @@ struct Fit {
 
 Fit prepare(const std::map<std::string, PairData>& pairs) {
   Fit f;
-  f.cands = candidates();
+  // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
+  std::set<double> sharp_lambdas, smooth_lambdas;
+  bool first = true;
+  for (const auto& [key, p] : pairs) {
+    std::set<double> sh, sm;
+    for (const auto& [ck, curve] : p.curves) {
+      double s = 0, l = 0, r = 0, o = 0;
+      if (std::sscanf(ck.c_str(), "%lf/%lf/%lf/%lf", &s, &l, &r, &o) != 4 || r != 3.0 || o != 0.0) continue;
+      if (curve_key(s, l, r, o) == curve_key(0.7, l, 3.0, 0.0)) sh.insert(l);
+      if (curve_key(s, l, r, o) == curve_key(2.0, l, 3.0, 0.0)) sm.insert(l);
+    }
+    if (first) sharp_lambdas = sh, smooth_lambdas = sm, first = false;
+    std::set<double> a, b;
+    std::set_intersection(sharp_lambdas.begin(), sharp_lambdas.end(), sh.begin(), sh.end(), std::inserter(a, a.end()));
+    std::set_intersection(smooth_lambdas.begin(), smooth_lambdas.end(), sm.begin(), sm.end(), std::inserter(b, b.end()));
+    if (!a.empty() && !b.empty()) sharp_lambdas = a, smooth_lambdas = b;  // a pair without them is dropped below
+  }
+  if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
+  if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
+  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()});
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -202,7 +226,8 @@ Fit prepare(const std::map<std::string, PairData>& pairs) {
       if (c.it == 100) dm = c.msae;
     if (dm < 0) continue;
     bool complete = true;
-    for (const auto& c : f.cands) complete = complete && replay(p, c, nullptr).msae >= 0;
+#pragma omp parallel for reduction(&& : complete)
+    for (long j = 0; j < static_cast<long>(f.cands.size()); ++j) complete = complete && replay(p, f.cands[j], nullptr).msae >= 0;
     if (!complete) continue;
     f.keys.push_back(key);
     f.model_of.push_back(p.model);
@@ -212,6 +237,7 @@ Fit prepare(const std::map<std::string, PairData>& pairs) {
   }
   f.msae.resize(f.keys.size() * f.cands.size());
   f.flips.resize(f.keys.size() * f.cands.size());
+#pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t i = 0; i < f.keys.size(); ++i) {
     const PairData& p = pairs.at(f.keys[i]);
     for (std::size_t j = 0; j < f.cands.size(); ++j) {
@@ -227,6 +253,11 @@ Fit prepare(const std::map<std::string, PairData>& pairs) {
 std::size_t best_candidate(const Fit& f, const std::string& held_out) {
   std::size_t best = 0;
   double best_score = -1e300;
+#pragma omp parallel
+  {
+    std::size_t my_best = 0;
+    double my_score = -1e300;
+#pragma omp for schedule(static)
   for (std::size_t j = 0; j < f.cands.size(); ++j) {
     double wins = 0, ratio = 0, n = 0;
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
@@ -238,15 +269,18 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
       n += 1.0;
     }
     const double score = wins - ratio / n;  // a win outweighs any ratio
-    if (score > best_score) best_score = score, best = j;
+    if (score > my_score) my_score = score, my_best = j;
+  }
+#pragma omp critical
+    if (my_score > best_score || (my_score == best_score && my_best < best)) best_score = my_score, best = my_best;  // first best, any thread count
   }
   return best;
 }
 
 void print_rules(const char* label, const AutoRules& r) {
-  std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
+  std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
               "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way) | turned slack %g\n",
-              label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
+              label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
               r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.turned_slack);
 }
 
