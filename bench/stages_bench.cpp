@@ -100,7 +100,7 @@ void BM_Denoise20(benchmark::State& state) {
 BENCHMARK(BM_FilterFaceNormals)->ArgsProduct({{5, 6, 8}, {1, 2}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_UpdateVertices)->ArgsProduct({{5, 6}, {1, 2}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Neighbourhoods)->ArgsProduct({{5, 6}, {1, 2}})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Topology)->Args({6})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Topology)->Args({6})->Args({8})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Denoise20)->ArgsProduct({{6}, {1, 2}})->Unit(benchmark::kMillisecond);
 
 }  // namespace

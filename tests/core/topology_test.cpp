@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+#include <random>
+#include <set>
+
 #include "helpers.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/parallel.h"
@@ -95,6 +100,78 @@ TEST(Topology, WithoutFaceFacesEverythingElseIsTheSame) {
     EXPECT_EQ(light.face_edges, full.face_edges);
     EXPECT_EQ(light.boundary_vertex, full.boundary_vertex);
     EXPECT_EQ(light.boundary_loops, full.boundary_loops);
+  }
+}
+
+namespace {
+
+// Topology written the plain way (maps and sets), to check the counted, in-place build against.
+struct Reference {
+  std::vector<std::vector<int>> vertex_faces, vertex_vertices, edge_faces, face_faces;
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> face_edges;
+};
+
+Reference reference_topology(const Mesh& m) {
+  Reference r;
+  const std::size_t nv = m.num_vertices(), nf = m.num_faces();
+  std::vector<std::set<int>> vf(nv), vv(nv), ff(nf);
+  std::map<std::array<int, 2>, std::vector<std::pair<int, int>>> half;  // edge -> (face, corner), ascending
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int u = m.faces[f][k], w = m.faces[f][(k + 1) % 3];
+      vf[u].insert(static_cast<int>(f));
+      half[{std::min(u, w), std::max(u, w)}].emplace_back(static_cast<int>(f), k);
+    }
+  r.face_edges.assign(nf, {-1, -1, -1});
+  for (auto& [e, list] : half) {
+    std::sort(list.begin(), list.end());
+    const int index = static_cast<int>(r.edges.size());
+    r.edges.push_back(e);
+    std::vector<int> faces;
+    for (const auto& [f, k] : list) {
+      r.face_edges[f][k] = index;
+      if (faces.empty() || faces.back() != f) faces.push_back(f);
+    }
+    for (std::size_t i = 0; i + 1 < faces.size(); ++i) ff[faces[i]].insert(faces[i + 1]), ff[faces[i + 1]].insert(faces[i]);
+    r.edge_faces.push_back(faces);
+    if (e[0] != e[1]) vv[e[0]].insert(e[1]), vv[e[1]].insert(e[0]);
+  }
+  for (const auto& s : vf) r.vertex_faces.emplace_back(s.begin(), s.end());
+  for (const auto& s : vv) r.vertex_vertices.emplace_back(s.begin(), s.end());
+  for (const auto& s : ff) r.face_faces.emplace_back(s.begin(), s.end());
+  return r;
+}
+
+std::vector<std::vector<int>> rows_of(const Adjacency& a) {
+  std::vector<std::vector<int>> rows;
+  for (std::size_t i = 0; i < a.rows(); ++i) rows.emplace_back(a.begin(i), a.end(i));
+  return rows;
+}
+
+}  // namespace
+
+TEST(Topology, EqualsAPlainBuildOnAHostileSoupForAnyThreadCount) {
+  // A sphere plus a soup of random faces over few vertices: degenerate faces (a vertex named twice or
+  // three times), repeated faces, edges with many faces, isolated vertices.
+  Mesh m = test::make_sphere(3);
+  std::mt19937 rng(7);
+  const int base = static_cast<int>(m.num_vertices());
+  for (int i = 0; i < 40; ++i) m.positions.push_back(Vec3(i, 0.5 * i, 0.0));
+  std::uniform_int_distribution<int> pick(0, 29);  // vertices base+30..base+39 stay isolated
+  for (int i = 0; i < 600; ++i) m.faces.push_back({base + pick(rng), base + pick(rng), base + pick(rng)});
+  m.faces.push_back({3, 3, 3});
+  m.faces.push_back(m.faces[5]);
+  const Reference r = reference_topology(m);
+  for (int threads : {1, 3}) {
+    const ThreadScope scope(threads);
+    const Topology t = build_topology(m);
+    EXPECT_EQ(rows_of(t.vertex_faces), r.vertex_faces);
+    EXPECT_EQ(rows_of(t.vertex_vertices), r.vertex_vertices);
+    EXPECT_EQ(t.edges, r.edges);
+    EXPECT_EQ(rows_of(t.edge_faces), r.edge_faces);
+    EXPECT_EQ(t.face_edges, r.face_edges);
+    EXPECT_EQ(rows_of(t.face_faces), r.face_faces);
   }
 }
 

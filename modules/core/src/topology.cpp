@@ -2,21 +2,10 @@
 
 #include <algorithm>
 #include <numeric>
+#include <tuple>
 
 namespace scanmesh {
 namespace {
-
-// Fills a CSR adjacency from (row, value) pairs; values within a row keep their order of appearance.
-Adjacency build_csr(std::size_t rows, const std::vector<std::pair<int, int>>& pairs) {
-  Adjacency a;
-  a.offsets.assign(rows + 1, 0);
-  for (const auto& [r, v] : pairs) ++a.offsets[r + 1];
-  std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
-  a.indices.resize(pairs.size());
-  std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
-  for (const auto& [r, v] : pairs) a.indices[fill[r]++] = v;
-  return a;
-}
 
 // Sorts each row and drops repeats, in place: no second table and no allocation per row (a million rows
 // of small vectors left the heap fragmented for the rest of a run).
@@ -52,100 +41,130 @@ Topology build_topology(const Mesh& mesh, bool with_face_faces) {
   Topology t;
   const std::size_t nv = mesh.num_vertices();
   const std::size_t nf = mesh.num_faces();
+  const auto nvl = static_cast<long>(nv);
 
+  // Every table below is counted first and then filled in place: no temporary (row, value) pair lists and
+  // no tables grown by push_back (fresh memory has to be cleared by the kernel page by page, and on a
+  // million faces that clearing was a third of the build).
   {  // vertex -> faces: faces are visited in ascending order, so rows come out sorted.
-    std::vector<std::pair<int, int>> pairs;
-    pairs.reserve(3 * nf);
-    for (std::size_t f = 0; f < nf; ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int v = mesh.faces[f][k];
-        // A degenerate face may name a vertex twice; list it once.
-        if (k > 0 && mesh.faces[f][k - 1] == v) continue;
-        if (k == 2 && mesh.faces[f][0] == v) continue;
-        pairs.emplace_back(v, static_cast<int>(f));
-      }
-    t.vertex_faces = build_csr(nv, pairs);
-  }
-
-  // Half-edges keyed by their undirected edge; sorting gives unique edges in a deterministic order.
-  struct HalfEdge {
-    int a, b, face, local;
-  };
-  // Counting sort by the smaller vertex (linear), then each vertex's few half-edges by the rest of the key.
-  std::vector<HalfEdge> half(3 * nf);
-  {
-    std::vector<int> start(nv + 1, 0);
+    auto& a = t.vertex_faces;
+    // A degenerate face may name a vertex twice; it is listed once.
+    auto repeats = [&](const Face& f, int k) { return (k > 0 && f[k - 1] == f[k]) || (k == 2 && f[0] == f[2]); };
+    a.offsets.assign(nv + 1, 0);
     for (const Face& f : mesh.faces)
-      for (int k = 0; k < 3; ++k) ++start[std::min(f[k], f[(k + 1) % 3]) + 1];
-    std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k)
+        if (!repeats(f, k)) ++a.offsets[f[k] + 1];
+    std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
+    a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
+    std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
+    for (std::size_t fi = 0; fi < nf; ++fi)
+      for (int k = 0; k < 3; ++k)
+        if (!repeats(mesh.faces[fi], k)) a.indices[static_cast<std::size_t>(fill[mesh.faces[fi][k]]++)] = static_cast<int>(fi);
+  }
+
+  // Edges, in (smaller, larger) order, found from each vertex's faces: vertex v owns the half-edges whose
+  // smaller end is v, sorted by (larger end, face, corner); runs of equal larger ends are its edges, in
+  // order. Two passes over the vertices in parallel (count, then fill at the counted offsets), so the
+  // result does not depend on the thread count.
+  struct HalfEdge {
+    int b, face, local;
+    bool operator<(const HalfEdge& o) const { return std::tie(b, face, local) < std::tie(o.b, o.face, o.local); }
+  };
+  auto owned = [&](std::size_t v, std::vector<HalfEdge>& out) {
+    out.clear();
+    for (const int* f = t.vertex_faces.begin(v); f != t.vertex_faces.end(v); ++f)
       for (int k = 0; k < 3; ++k) {
-        const int u = mesh.faces[f][k];
-        const int w = mesh.faces[f][(k + 1) % 3];
-        half[fill[std::min(u, w)]++] = {std::min(u, w), std::max(u, w), static_cast<int>(f), k};
+        const int u = mesh.faces[*f][k];
+        const int w = mesh.faces[*f][(k + 1) % 3];
+        if (std::min(u, w) == static_cast<int>(v)) out.push_back({std::max(u, w), *f, k});
       }
-    for (std::size_t v = 0; v < nv; ++v)
-      if (start[v + 1] - start[v] > 1)
-        std::sort(half.begin() + start[v], half.begin() + start[v + 1], [](const HalfEdge& x, const HalfEdge& y) {
-          return std::tie(x.b, x.face, x.local) < std::tie(y.b, y.face, y.local);
-        });
+    std::sort(out.begin(), out.end());
+  };
+  std::vector<int> edge_start(nv + 1, 0), entry_start(nv + 1, 0);  // per vertex: its first edge, first edge-face entry
+#pragma omp parallel
+  {
+    std::vector<HalfEdge> half;
+#pragma omp for schedule(dynamic, 2048)
+    for (long v = 0; v < nvl; ++v) {
+      owned(static_cast<std::size_t>(v), half);
+      int edges = 0, entries = 0;
+      for (std::size_t i = 0; i < half.size(); ++i) {
+        const bool new_edge = i == 0 || half[i].b != half[i - 1].b;
+        edges += new_edge ? 1 : 0;
+        entries += new_edge || half[i].face != half[i - 1].face ? 1 : 0;
+      }
+      edge_start[v + 1] = edges;
+      entry_start[v + 1] = entries;
+    }
   }
-
+  std::partial_sum(edge_start.begin(), edge_start.end(), edge_start.begin());
+  std::partial_sum(entry_start.begin(), entry_start.end(), entry_start.begin());
+  const auto ne = static_cast<std::size_t>(edge_start.back());
+  t.edges.resize(ne);
+  t.edge_faces.offsets.resize(ne + 1);
+  t.edge_faces.offsets[ne] = entry_start.back();
+  t.edge_faces.indices.resize(static_cast<std::size_t>(entry_start.back()));
   t.face_edges.assign(nf, {-1, -1, -1});
-  // The tables below at their final size from the start: grown by push_back they were copied and
-  // freshly faulted in several times (half of build_topology's time on a million faces).
-  std::size_t unique_edges = half.empty() ? 0 : 1;
-  for (std::size_t i = 1; i < half.size(); ++i) unique_edges += half[i].a != half[i - 1].a || half[i].b != half[i - 1].b ? 1 : 0;
-  t.edges.reserve(unique_edges);
-  t.edge_faces.offsets.reserve(unique_edges + 1);
-  t.edge_faces.indices.reserve(half.size());
-  t.edge_faces.offsets.assign(1, 0);
-  for (std::size_t i = 0; i < half.size();) {
-    std::size_t j = i;
-    const int e = static_cast<int>(t.edges.size());
-    t.edges.push_back({half[i].a, half[i].b});
-    int last_face = -1;
-    for (; j < half.size() && half[j].a == half[i].a && half[j].b == half[i].b; ++j) {
-      t.face_edges[half[j].face][half[j].local] = e;
-      if (half[j].face != last_face) t.edge_faces.indices.push_back(half[j].face);
-      last_face = half[j].face;
+#pragma omp parallel
+  {
+    std::vector<HalfEdge> half;
+#pragma omp for schedule(dynamic, 2048)
+    for (long v = 0; v < nvl; ++v) {
+      owned(static_cast<std::size_t>(v), half);
+      int e = edge_start[v] - 1, entry = entry_start[v];
+      for (std::size_t i = 0; i < half.size(); ++i) {
+        const bool new_edge = i == 0 || half[i].b != half[i - 1].b;
+        if (new_edge) {
+          ++e;
+          t.edges[static_cast<std::size_t>(e)] = {static_cast<int>(v), half[i].b};
+          t.edge_faces.offsets[static_cast<std::size_t>(e)] = entry;
+        }
+        if (new_edge || half[i].face != half[i - 1].face) t.edge_faces.indices[static_cast<std::size_t>(entry++)] = half[i].face;
+        t.face_edges[half[i].face][half[i].local] = e;  // each (face, corner) belongs to one vertex's list
+      }
     }
-    t.edge_faces.offsets.push_back(static_cast<int>(t.edge_faces.indices.size()));
-    i = j;
   }
-  // 48 bytes per face, no longer needed: freed before the adjacency lists below are built (it was half of
-  // the denoiser's peak memory).
-  std::vector<HalfEdge>().swap(half);
+  std::vector<int>().swap(edge_start);
+  std::vector<int>().swap(entry_start);
 
-  {  // vertex -> vertices from the unique edges (self-loops of degenerate faces are skipped).
-    std::vector<std::pair<int, int>> pairs;
-    pairs.reserve(2 * t.edges.size());
-    for (const auto& [a, b] : t.edges) {
-      if (a == b) continue;
-      pairs.emplace_back(a, b);
-      pairs.emplace_back(b, a);
-    }
-    t.vertex_vertices = build_csr(nv, pairs);
-    sort_unique_rows(t.vertex_vertices);
+  {  // vertex -> vertices from the unique edges (self-loops of degenerate faces are skipped). Row v gets
+     // the smaller ends c of edges (c, v) in ascending order, then the larger ends of edges (v, b) in
+     // ascending order: sorted and without repeats as filled.
+    auto& a = t.vertex_vertices;
+    a.offsets.assign(nv + 1, 0);
+    for (const auto& [p, q] : t.edges)
+      if (p != q) ++a.offsets[p + 1], ++a.offsets[q + 1];
+    std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
+    a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
+    std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
+    for (const auto& [p, q] : t.edges)
+      if (p != q) {
+        a.indices[static_cast<std::size_t>(fill[p]++)] = q;
+        a.indices[static_cast<std::size_t>(fill[q]++)] = p;
+      }
   }
 
   // face -> edge-adjacent faces. Across a non-manifold edge (k > 2 faces) each face is linked to the
   // faces before and after it on that edge only, so a fan of k faces costs O(k) links, not O(k^2), and
   // stays connected.
   if (with_face_faces) {
-    std::vector<std::pair<int, int>> pairs;
-    pairs.reserve(2 * t.edge_faces.indices.size());
-    for (std::size_t e = 0; e < t.edges.size(); ++e) {
+    auto& a = t.face_faces;
+    a.offsets.assign(nf + 1, 0);
+    for (std::size_t e = 0; e < ne; ++e) {
       const int* f = t.edge_faces.begin(e);
-      const int k = t.edge_faces.size(e);
-      for (int a = 0; a + 1 < k; ++a) {
-        pairs.emplace_back(f[a], f[a + 1]);
-        pairs.emplace_back(f[a + 1], f[a]);
+      for (int k = 0; k + 1 < t.edge_faces.size(e); ++k) ++a.offsets[f[k] + 1], ++a.offsets[f[k + 1] + 1];
+    }
+    std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
+    a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
+    std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
+    for (std::size_t e = 0; e < ne; ++e) {
+      const int* f = t.edge_faces.begin(e);
+      for (int k = 0; k + 1 < t.edge_faces.size(e); ++k) {
+        a.indices[static_cast<std::size_t>(fill[f[k]]++)] = f[k + 1];
+        a.indices[static_cast<std::size_t>(fill[f[k + 1]]++)] = f[k];
       }
     }
-    t.face_faces = build_csr(nf, pairs);
-    sort_unique_rows(t.face_faces);
+    sort_unique_rows(a);  // two faces sharing two edges (degenerate input) are listed once
   }
 
   t.boundary_vertex.assign(nv, 0);
