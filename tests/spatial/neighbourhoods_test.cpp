@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <tuple>
 
 #include "scanmesh/parallel.h"
 
@@ -59,4 +62,49 @@ TEST(Neighbourhoods, MeanNearestNeighbourDistanceOfABigCloudFromASample) {
   for (std::size_t i = 0; i < pts.size(); ++i) sum += (pts[static_cast<std::size_t>(*nn.begin(i))] - pts[i]).norm();
   const double exact = sum / static_cast<double>(pts.size());
   EXPECT_NEAR(mean_nearest_neighbour_distance(pts), exact, 0.005 * exact);
+}
+
+TEST(Neighbourhoods, SpatiallyOrderedSearchGivesTheSameRowsAndCuts) {
+  // Searched a group of close points at a time (spatially_ordered) or one point at a time: the same rows
+  // and the same capped rows, except which of several equally distant points fill a capped row (the two
+  // searches use differently built trees). A grid with many distances equal to the radius, a sphere's
+  // points in slices, a far-off point, and 600 copies of one point (rows over the cap, candidates over
+  // the group limit).
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) pts.emplace_back(0.05 * i, 0.05 * j, 0.0);
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<Vec3> sphere(4000);
+  for (auto& p : sphere) p = Vec3(g(rng), g(rng), g(rng)).normalized() + Vec3(3.0, 0.0, 0.0);
+  std::sort(sphere.begin(), sphere.end(), [](const Vec3& a, const Vec3& b) {
+    return std::make_tuple(std::floor(a.x() * 8), std::floor(a.y() * 8), a.z()) < std::make_tuple(std::floor(b.x() * 8), std::floor(b.y() * 8), b.z());
+  });
+  pts.insert(pts.end(), sphere.begin(), sphere.end());
+  pts.emplace_back(100.0, 100.0, 100.0);
+  pts.insert(pts.end(), 600, Vec3(-1.0, -1.0, -1.0));
+  for (int cap : {0, 128})
+    for (double r : {0.1, 0.23}) {
+      std::size_t cut_grouped = 0, cut_single = 0;
+      const Adjacency grouped = radius_neighbourhoods(pts, r, cap, &cut_grouped, true);
+      const Adjacency single = radius_neighbourhoods(pts, r, cap, &cut_single, false);
+      EXPECT_EQ(cut_grouped, cut_single);
+      EXPECT_EQ(cut_grouped, cap > 0 ? 600u : 0u);
+      ASSERT_EQ(grouped.offsets, single.offsets) << cap << " " << r;
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const std::vector<int> a(grouped.begin(i), grouped.end(i)), b(single.begin(i), single.end(i));
+        if (static_cast<int>(b.size()) < cap || cap == 0) {
+          EXPECT_EQ(a, b) << "row " << i << ", cap " << cap << ", radius " << r;
+          continue;
+        }
+        differ += a != b ? 1 : 0;
+        // A capped row: the cap nearest, whichever of the equally distant ones.
+        double farthest = 0.0;
+        for (int j : a) farthest = std::max(farthest, (pts[j] - pts[i]).squaredNorm());
+        for (std::size_t j = 0; j < pts.size(); ++j)
+          if (!std::binary_search(a.begin(), a.end(), static_cast<int>(j))) EXPECT_GE((pts[j] - pts[i]).squaredNorm(), farthest);
+      }
+      EXPECT_LE(differ, cap > 0 ? 600u : 0u);
+    }
 }

@@ -41,9 +41,10 @@ class PointTree {
   /// With `copy` the tree keeps its own copy of the points in tree order (faster queries on points in any
   /// order); without, it reads `points` in place (24 bytes per point less; as fast when the points are
   /// already in a spatial order, like the denoiser's faces). `points` must outlive the tree either way.
-  explicit PointTree(const std::vector<Vec3>& points, bool copy = true)
+  /// `leaf_size`: points per leaf; larger leaves build faster and suit queries that gather many points.
+  explicit PointTree(const std::vector<Vec3>& points, bool copy = true, int leaf_size = 12)
       : data_(points.empty() ? nullptr : const_cast<double*>(points.data()->data()), points.size(), 3),
-        index_(data_, flann::KDTreeSingleIndexParams(12, copy)) {
+        index_(data_, flann::KDTreeSingleIndexParams(leaf_size, copy)) {
     if (!points.empty()) index_.buildIndex();
   }
 
