@@ -67,12 +67,15 @@ bool needs_full(const std::string& command, const std::vector<std::string>& args
 //   makes every parallel loop many times slower: passive waiting.
 // - glibc's malloc asks for transparent huge pages on its large blocks (glibc.malloc.hugetlb=1): on a
 //   million-face mesh first touches of fresh memory (page faults) took a fifth of the denoiser's setup.
-// - Every block of 1 MiB or more is mapped on its own and unmapped when freed
+// - Every block of 16 MiB or more is mapped on its own and unmapped when freed
 //   (glibc.malloc.mmap_threshold): by default glibc raises that limit after the first large free, so
 //   later tables land in the heap and what a stage frees stays in the process. 810k-face dragon, 20
-//   iterations: peak 162 -> 154 MB at the same time; the main job on a 307k-point frame: 437-448 ->
-//   422-430 MB for 0.6 s more system time (fresh pages instead of reused ones), within the run-to-run
-//   spread of its 11 s.
+//   iterations: peak 162 -> 154 MB at the same time with a 1 MiB limit; the main job on a 307k-point
+//   frame: 437-448 -> 422-430 MB. A 1 MiB limit made every table of a mid-sized mesh fresh memory,
+//   which this VM clears slowly (a sixth of the 810k run's profile); 16 MiB keeps the peaks (810k:
+//   143-144 MB both; the 307k-point frame 411-412 -> 413-414 MB; 3.2M faces 559-564 MB both) and saves
+//   time (810k, 20 iterations, five alternating runs: 1.70-2.03 -> 1.52-1.94 s, median 1.74 -> 1.58;
+//   the frame's main job 6.4-7.7 -> 5.4-5.8 s).
 void prefer_runtime_settings(char** argv) {
   if (std::getenv("SCANMESH_NO_REEXEC") != nullptr) return;
   bool changed = false;
@@ -82,7 +85,7 @@ void prefer_runtime_settings(char** argv) {
   }
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   std::string value = tunables != nullptr ? tunables : "";
-  for (const char* setting : {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_threshold=1048576"}) {
+  for (const char* setting : {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_threshold=16777216"}) {
     const std::string name = std::string(setting).substr(0, std::string(setting).find('='));
     if (value.find(name) != std::string::npos) continue;  // the user's choice stands
     if (!value.empty()) value += ':';
