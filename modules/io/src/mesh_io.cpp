@@ -37,11 +37,31 @@ bool is_mesh_extension(const std::string& ext) {
   return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl";
 }
 
+namespace {
+
+// Files up to this size are read whole; bigger PLY files stream their binary body.
+constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
+
+// What every mesh read passes: indices in range, finite coordinates, at least one face.
+Mesh checked(Mesh mesh, const std::string& path) {
+  validate_mesh(mesh, "'" + path + "'");
+  if (mesh.faces.empty()) throw InputError("'" + path + "': contains no faces");
+  return mesh;
+}
+
+}  // namespace
+
 Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   const std::string ext = lower_extension(path);
   if (!is_mesh_extension(ext))
     throw InputError("'" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .obj .off .ply .stl");
+  // A big PLY file's binary body is read in chunks rather than held whole next to the mesh.
+  std::error_code ec;
+  if (ext == ".ply" && std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
+    std::vector<std::string> local;
+    return checked(detail::read_ply_file(path, warnings != nullptr ? *warnings : local), path);
+  }
   return decode_mesh(read_file(path), path, warnings);
 }
 
@@ -56,9 +76,7 @@ Mesh decode_mesh(std::string_view data, const std::string& path, std::vector<std
   else if (ext == ".ply") mesh = detail::read_ply(data, path, w);
   else if (ext == ".stl") mesh = detail::read_stl(data, path, w);
   else throw InputError("'" + path + "': unknown mesh format '" + ext + "'; supported: .obj .off .ply .stl");
-  validate_mesh(mesh, "'" + path + "'");
-  if (mesh.faces.empty()) throw InputError("'" + path + "': contains no faces");
-  return mesh;
+  return checked(std::move(mesh), path);
 }
 
 Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings, RangeGrid* grid) {

@@ -4,7 +4,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <memory>
+
+#include <sys/stat.h>
 
 #include "formats.h"
 #include "scanmesh/schema.h"
@@ -86,11 +91,12 @@ T load(const char* p, bool swap) {
   return v;
 }
 
-// Reads values from either the text or the binary body of a PLY file.
+// Reads values from either the text or the binary body of a PLY file. The binary body is read through a
+// window: all of it when the file is in memory, else a chunk at a time (`refill`).
 class ValueReader {
  public:
-  ValueReader(std::string_view data, std::size_t body, Encoding enc, TextScanner& text)
-      : data_(data), pos_(body), enc_(enc), text_(text) {}
+  ValueReader(std::string_view window, const PlyRefill* refill, Encoding enc, TextScanner& text)
+      : window_(window), refill_(refill), enc_(enc), text_(text) {}
 
   double read(ScalarType t, const Element& e, long long item) {
     if (enc_ == Encoding::ascii) {
@@ -103,9 +109,15 @@ class ValueReader {
       return v;
     }
     const std::size_t n = type_size(t);
-    if (pos_ + n > data_.size())
-      throw InputError(text_.file() + ": binary data ends while reading " + what(e, item) + " (truncated?)");
-    const char* p = data_.data() + pos_;
+    if (pos_ + n > window_.size()) {
+      if (refill_ != nullptr) {
+        window_ = (*refill_)(window_.size() - pos_);
+        pos_ = 0;
+      }
+      if (pos_ + n > window_.size())
+        throw InputError(text_.file() + ": binary data ends while reading " + what(e, item) + " (truncated?)");
+    }
+    const char* p = window_.data() + pos_;
     pos_ += n;
     const bool swap = (enc_ == Encoding::big) == (std::endian::native == std::endian::little);
     switch (t) {
@@ -125,8 +137,9 @@ class ValueReader {
   static std::string what(const Element& e, long long item) {
     return e.name + " " + std::to_string(item) + " of " + std::to_string(e.count);
   }
-  std::string_view data_;
-  std::size_t pos_;
+  std::string_view window_;
+  std::size_t pos_ = 0;
+  const PlyRefill* refill_;
   Encoding enc_;
   TextScanner& text_;
 };
@@ -134,7 +147,8 @@ class ValueReader {
 }  // namespace
 
 Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings,
-              bool require_faces, RangeGrid* grid) {
+              bool require_faces, RangeGrid* grid, std::size_t file_size, const PlyRefill* refill) {
+  if (refill == nullptr) file_size = data.size();
   TextScanner s(data, file);
   if (s.token() != "ply") s.fail("not a PLY file: the first line must be 'ply'");
   s.skip_line();
@@ -156,7 +170,7 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
       Element e;
       e.name = std::string(s.token());
       if (!s.parse_int(s.token(), e.count) || e.count < 0) s.fail("element '" + e.name + "' needs a non-negative count");
-      if (e.count > static_cast<long long>(data.size())) s.fail("element '" + e.name + "' count " + std::to_string(e.count) + " is larger than the file could hold");
+      if (e.count > static_cast<long long>(file_size)) s.fail("element '" + e.name + "' count " + std::to_string(e.count) + " is larger than the file could hold");
       elements.push_back(std::move(e));
     } else if (key == "property") {
       if (elements.empty()) s.fail("property before any element");
@@ -187,11 +201,12 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
     s.skip_line();
   }
   if (!have_format) s.fail("header has no 'format' line");
+  if (refill != nullptr && enc == Encoding::ascii) throw PlyNeedsWholeFile{};
 
   // Every element must fit in the bytes after the header before anything is allocated for it: a binary
   // item takes at least the sizes of its scalars and list counts, a text value at least two characters.
   {
-    const double remaining = static_cast<double>(data.size() - std::min(data.size(), s.position()));
+    const double remaining = static_cast<double>(file_size - std::min(file_size, s.position()));
     double need = 0.0;
     for (const auto& e : elements) {
       double item = 0.0;
@@ -262,7 +277,7 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   for (auto& vp : mesh.vertex_properties) vp.values.resize(static_cast<std::size_t>(vertex->count));
   mesh.positions.resize(static_cast<std::size_t>(vertex->count));
 
-  ValueReader r(data, s.position(), enc, s);
+  ValueReader r(data.substr(std::min(data.size(), s.position())), refill, enc, s);
   std::size_t polygons_split = 0, strip_degenerate = 0;
   std::vector<int> corners;
   auto vertex_index = [&](const Element& e, long long item, double idx, bool allow_minus_one) {
@@ -331,6 +346,63 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   if (strip_degenerate > 0)
     warnings.push_back(file + ": " + std::to_string(strip_degenerate) + " degenerate triangles joining triangle strips were dropped");
   return mesh;
+}
+
+}  // namespace scanmesh::detail
+
+namespace scanmesh::detail {
+
+Mesh read_ply_file(const std::string& path, std::vector<std::string>& warnings, bool require_faces, RangeGrid* grid,
+                   std::size_t chunk_bytes) {
+  auto whole = [&] { return read_ply(read_file(path), path, warnings, require_faces, grid); };
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return whole();  // read_file names the problem
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  struct stat st {};
+  if (!f || ::fstat(::fileno(f.get()), &st) != 0 || !S_ISREG(st.st_mode)) return whole();
+  const auto size = static_cast<std::size_t>(st.st_size);
+  chunk_bytes = std::max<std::size_t>(chunk_bytes, 64);
+  // The start of the file, read until it holds the whole header (else the file is read whole, and the
+  // reader says what is wrong with it).
+  constexpr std::size_t kMaxHeader = std::size_t{16} << 20;
+  std::string head;
+  while (head.find("end_header") == std::string::npos && head.size() < size && head.size() < kMaxHeader) {
+    const std::size_t had = head.size();
+    head.resize(std::min(size, had + std::max(chunk_bytes, had)));
+    head.resize(had + std::fread(head.data() + had, 1, head.size() - had, f.get()));
+    if (head.size() == had) break;
+  }
+  if (head.find("end_header") == std::string::npos) {
+    f.reset();
+    return whole();
+  }
+  // The body a chunk at a time: the unread bytes of the window move to the front of the buffer, and the
+  // file fills the rest.
+  std::string buffer;
+  bool in_head = true;
+  std::size_t window_end = 0;  // end of the current window in `buffer` (once past the head)
+  const PlyRefill refill = [&](std::size_t keep) -> std::string_view {
+    if (in_head) {
+      buffer.assign(head, head.size() - keep, keep);
+      in_head = false;
+      std::string().swap(head);
+    } else {
+      buffer.erase(0, window_end - keep);
+    }
+    const std::size_t kept = buffer.size();
+    buffer.resize(std::max(chunk_bytes, kept + 64));
+    const std::size_t got = std::fread(buffer.data() + kept, 1, buffer.size() - kept, f.get());
+    if (std::ferror(f.get()) != 0) throw InputError("cannot read '" + path + "': read error");
+    buffer.resize(kept + got);
+    window_end = buffer.size();
+    return buffer;
+  };
+  try {
+    return read_ply(head, path, warnings, require_faces, grid, size, &refill);
+  } catch (const PlyNeedsWholeFile&) {
+    f.reset();
+    return whole();
+  }
 }
 
 }  // namespace scanmesh::detail

@@ -1,0 +1,86 @@
+// A PLY file's binary body read a chunk at a time (read_ply_file, what read_mesh does for big files)
+// gives what reading the whole file gives: the same mesh, warnings and errors, at any chunk size.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+
+#include "formats.h"
+#include "helpers.h"
+#include "scanmesh/atomic_file.h"
+#include "scanmesh/errors.h"
+#include "scanmesh/mesh_io.h"
+
+using namespace scanmesh;
+
+namespace {
+
+class PlyStream : public test::TempDirTest {
+ protected:
+  // The outcome of a read as text: the mesh's bytes (or the error) and the warnings.
+  static std::string outcome(const std::function<Mesh(std::vector<std::string>&)>& read) {
+    std::vector<std::string> warnings;
+    std::string result;
+    try {
+      const Mesh m = read(warnings);
+      result = encode_mesh(m, ".ply") + "|" + std::to_string(m.vertex_properties.size());
+    } catch (const InputError& e) {
+      result = std::string("error: ") + e.what();
+    }
+    for (const auto& w : warnings) result += "|" + w;
+    return result;
+  }
+  void expect_same(const std::string& file) {
+    const std::string whole = outcome([&](auto& w) { return detail::read_ply(read_file(file), file, w); });
+    for (std::size_t chunk : {64, 97, 1000, 1 << 20})
+      EXPECT_EQ(outcome([&](auto& w) { return detail::read_ply_file(file, w, true, nullptr, chunk); }), whole) << chunk;
+  }
+};
+
+TEST_F(PlyStream, BinaryBodiesReadInChunksGiveTheSameMesh) {
+  Mesh m = test::make_sphere(3);
+  m.vertex_properties.push_back({"quality", ScalarType::float32, std::vector<double>(m.num_vertices(), 0.25)});
+  m.vertex_properties.push_back({"red", ScalarType::uint8, std::vector<double>(m.num_vertices(), 200.0)});
+  const std::string file = path("sphere.ply");
+  write_mesh(m, file);
+  expect_same(file);
+  ASSERT_GT(read_file(file).size(), 20000u);  // many chunks of 64-1000 bytes
+  // The body cut in the middle of a face: the same "truncated" error.
+  const std::string bytes = read_file(file);
+  expect_same(write("cut.ply", bytes.substr(0, bytes.size() - 7)));
+  // A header whose counts the file cannot hold, and a text body (read whole).
+  std::string lying = bytes;
+  lying.replace(lying.find("element face ") + 13, 4, "9999");
+  expect_same(write("lying.ply", lying));
+  write_mesh(m, path("text.ply"), WriteOptions{false});
+  expect_same(path("text.ply"));
+  EXPECT_NE(outcome([&](auto& w) { return detail::read_ply_file(path("cut.ply"), w, true, nullptr, 64); }).find("truncated"), std::string::npos);
+}
+
+TEST_F(PlyStream, TriangleStripsAndSkippedElements) {
+  // Big-endian, a tristrips element with restarts, and an element that is skipped (warned about).
+  std::string body;
+  auto be32 = [&](std::uint32_t v) {
+    for (int k = 3; k >= 0; --k) body += static_cast<char>((v >> (8 * k)) & 0xff);
+  };
+  auto bef = [&](float f) {
+    std::uint32_t v;
+    std::memcpy(&v, &f, 4);
+    be32(v);
+  };
+  for (int i = 0; i < 40; ++i) bef(static_cast<float>(i % 8)), bef(static_cast<float>(i / 8)), bef(0.0f);
+  body += static_cast<char>(3);
+  be32(1), be32(2), be32(3);
+  be32(9);
+  for (std::int32_t v : {0, 8, 1, 9, -1, 10, 18, 11, 19}) be32(static_cast<std::uint32_t>(v));
+  const std::string header =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 40\nproperty float x\nproperty float y\nproperty float z\n"
+      "element junk 1\nproperty list uchar int stuff\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  const std::string file = write("strips.ply", header + body);
+  std::vector<std::string> warnings;
+  EXPECT_EQ(detail::read_ply(read_file(file), file, warnings).faces.size(), 4u);
+  EXPECT_EQ(warnings.size(), 1u);  // junk is not kept
+  expect_same(file);
+}
+
+}  // namespace
