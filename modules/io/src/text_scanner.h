@@ -131,12 +131,12 @@ class TextScanner {
 inline void append_double(std::string& out, double v) {
   char buf[32];
   auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, p);
+  out.append(buf, static_cast<std::size_t>(p - buf));
 }
 inline void append_int(std::string& out, long long v) {
   char buf[24];
   auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, p);
+  out.append(buf, static_cast<std::size_t>(p - buf));  // (pointer, size): GCC 12 warns falsely on the iterator form
 }
 
 /// Writers stream their files: they build a piece in a string and hand it to the sink (emptying the
