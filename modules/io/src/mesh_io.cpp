@@ -56,11 +56,14 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   if (!is_mesh_extension(ext))
     throw InputError("'" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .obj .off .ply .stl");
-  // A big PLY file's binary body is read in chunks rather than held whole next to the mesh.
+  // A big OBJ file, or a big PLY file's binary body, is read in chunks rather than held whole next to
+  // the mesh.
   std::error_code ec;
-  if (ext == ".ply" && std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
+  if ((ext == ".ply" || ext == ".obj") && std::filesystem::is_regular_file(path, ec) &&
+      std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
     std::vector<std::string> local;
-    return checked(detail::read_ply_file(path, warnings != nullptr ? *warnings : local), path);
+    std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
+    return checked(ext == ".ply" ? detail::read_ply_file(path, w) : detail::read_obj_file(path, w), path);
   }
   return decode_mesh(read_file(path), path, warnings);
 }

@@ -15,7 +15,9 @@ namespace scanmesh::detail {
 
 class TextScanner {
  public:
-  TextScanner(std::string_view text, std::string file) : text_(text), file_(std::move(file)) {}
+  /// `first_line`: the line number of the text's first line (when a file is parsed a block at a time).
+  TextScanner(std::string_view text, std::string file, std::size_t first_line = 1)
+      : text_(text), file_(std::move(file)), line_(first_line) {}
 
   [[nodiscard]] bool at_end() const { return pos_ >= text_.size(); }
   [[nodiscard]] std::size_t line() const { return line_; }

@@ -1,7 +1,9 @@
-// A PLY file's binary body read a chunk at a time (read_ply_file, what read_mesh does for big files)
-// gives what reading the whole file gives: the same mesh, warnings and errors, at any chunk size.
+// A PLY file's binary body read a chunk at a time (read_ply_file) and an OBJ file read a block of lines
+// at a time (read_obj_file), what read_mesh does for big files, give what reading the whole file gives:
+// the same mesh, warnings and errors (line numbers included), at any chunk size.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 
@@ -15,7 +17,7 @@ using namespace scanmesh;
 
 namespace {
 
-class PlyStream : public test::TempDirTest {
+class ChunkedReading : public test::TempDirTest {
  protected:
   // The outcome of a read as text: the mesh's bytes (or the error) and the warnings.
   static std::string outcome(const std::function<Mesh(std::vector<std::string>&)>& read) {
@@ -37,7 +39,7 @@ class PlyStream : public test::TempDirTest {
   }
 };
 
-TEST_F(PlyStream, BinaryBodiesReadInChunksGiveTheSameMesh) {
+TEST_F(ChunkedReading, BinaryBodiesReadInChunksGiveTheSameMesh) {
   Mesh m = test::make_sphere(3);
   m.vertex_properties.push_back({"quality", ScalarType::float32, std::vector<double>(m.num_vertices(), 0.25)});
   m.vertex_properties.push_back({"red", ScalarType::uint8, std::vector<double>(m.num_vertices(), 200.0)});
@@ -57,7 +59,7 @@ TEST_F(PlyStream, BinaryBodiesReadInChunksGiveTheSameMesh) {
   EXPECT_NE(outcome([&](auto& w) { return detail::read_ply_file(path("cut.ply"), w, true, nullptr, 64); }).find("truncated"), std::string::npos);
 }
 
-TEST_F(PlyStream, TriangleStripsAndSkippedElements) {
+TEST_F(ChunkedReading, TriangleStripsAndSkippedElements) {
   // Big-endian, a tristrips element with restarts, and an element that is skipped (warned about).
   std::string body;
   auto be32 = [&](std::uint32_t v) {
@@ -81,6 +83,32 @@ TEST_F(PlyStream, TriangleStripsAndSkippedElements) {
   EXPECT_EQ(detail::read_ply(read_file(file), file, warnings).faces.size(), 4u);
   EXPECT_EQ(warnings.size(), 1u);  // junk is not kept
   expect_same(file);
+}
+
+TEST_F(ChunkedReading, ObjReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
+  auto same = [&](const std::string& name, const std::string& text) {
+    const std::string file = write(name, text);
+    const std::string whole = outcome([&](auto& w) { return detail::read_obj(read_file(file), file, w); });
+    for (std::size_t chunk : {16, 37, 1000})
+      EXPECT_EQ(outcome([&](auto& w) { return detail::read_obj_file(file, w, chunk); }), whole) << name << " " << chunk;
+    return whole;
+  };
+  // Colours, comments, blank lines, CRLF, vt/vn, a quad, negative indices, a line longer than a chunk,
+  // no newline at the end.
+  std::string obj = "# made by hand\r\n\nv 0 0 0 1 0 0\r\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n";
+  obj += "f 1/1/1 2/1/1 3/1/1 4/1/1\n";
+  obj += "f -4 -3 -2";
+  for (int i = 0; i < 30; ++i) obj += "   ";
+  obj += "\n# the end";
+  EXPECT_EQ(same("hand.obj", obj).find("error"), std::string::npos);
+  // A sphere written by the OBJ writer; errors on a late line keep their line numbers.
+  const std::string sphere = encode_mesh(test::make_sphere(2), ".obj");
+  same("sphere.obj", sphere);
+  const std::string bad = same("bad.obj", sphere + "f 1 2 999999\n");
+  std::string expected = std::to_string(std::count(sphere.begin(), sphere.end(), '\n') + 1);
+  expected += ": face refers to vertex 999999";
+  EXPECT_NE(bad.find(expected), std::string::npos) << bad;
+  same("nan.obj", sphere.substr(0, sphere.size() / 2) + "\nv 1 nan 2\n");
 }
 
 }  // namespace
