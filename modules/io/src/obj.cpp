@@ -120,11 +120,14 @@ Mesh read_obj_file(const std::string& path, std::vector<std::string>& warnings, 
       line = parser.parse(std::string_view(buffer.data(), filled), line);
       break;
     }
-    const std::size_t last_newline = std::string_view(buffer.data(), filled).rfind('\n');
-    if (last_newline == std::string_view::npos) {  // one line longer than the chunk: read on
+    // Only the new bytes can hold a newline (the carried ones are one unfinished line), so a file of one
+    // endless line is scanned once, not once per chunk.
+    const std::size_t found = std::string_view(buffer.data() + carried, got).rfind('\n');
+    if (found == std::string_view::npos) {  // one line longer than the chunk: read on
       carried = filled;
       continue;
     }
+    const std::size_t last_newline = carried + found;
     line = parser.parse(std::string_view(buffer.data(), last_newline + 1), line);
     carried = filled - (last_newline + 1);
     std::memmove(buffer.data(), buffer.data() + last_newline + 1, carried);
