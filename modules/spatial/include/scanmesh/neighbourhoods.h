@@ -14,7 +14,9 @@ namespace scanmesh {
 /// With `max_neighbours` > 0, a row keeps only the nearest max_neighbours points (so pathological input,
 /// thousands of faces on one spot, stays linear in size); `capped` then counts the rows that were cut.
 /// With `spatially_ordered` (points close in space are close in the array, like the denoiser's faces) the
-/// k-d tree reads `points` in place instead of keeping a reordered copy: 24 bytes per point less, as fast.
+/// k-d tree reads `points` in place instead of keeping a reordered copy (24 bytes per point less), and
+/// runs of close points share one tree query (about 40% less time on the denoiser's faces). The rows are
+/// the same either way, except which of several equally distant points fill a capped row.
 Adjacency radius_neighbourhoods(const std::vector<Vec3>& points, double radius, int max_neighbours = 0,
                                 std::size_t* capped = nullptr, bool spatially_ordered = false);
 
