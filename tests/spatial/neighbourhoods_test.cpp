@@ -102,8 +102,11 @@ TEST(Neighbourhoods, SpatiallyOrderedSearchGivesTheSameRowsAndCuts) {
         // A capped row: the cap nearest, whichever of the equally distant ones.
         double farthest = 0.0;
         for (int j : a) farthest = std::max(farthest, (pts[j] - pts[i]).squaredNorm());
-        for (std::size_t j = 0; j < pts.size(); ++j)
-          if (!std::binary_search(a.begin(), a.end(), static_cast<int>(j))) EXPECT_GE((pts[j] - pts[i]).squaredNorm(), farthest);
+        for (std::size_t j = 0; j < pts.size(); ++j) {
+          if (!std::binary_search(a.begin(), a.end(), static_cast<int>(j))) {
+            EXPECT_GE((pts[j] - pts[i]).squaredNorm(), farthest);
+          }
+        }
       }
       EXPECT_LE(differ, cap > 0 ? 600u : 0u);
     }
