@@ -226,8 +226,9 @@ Fit prepare(const std::map<std::string, PairData>& pairs) {
       if (c.it == 100) dm = c.msae;
     if (dm < 0) continue;
     bool complete = true;
+    const PairData& pair = p;  // clang 14 does not let the parallel loop capture a structured binding
 #pragma omp parallel for reduction(&& : complete)
-    for (long j = 0; j < static_cast<long>(f.cands.size()); ++j) complete = complete && replay(p, f.cands[j], nullptr).msae >= 0;
+    for (long j = 0; j < static_cast<long>(f.cands.size()); ++j) complete = complete && replay(pair, f.cands[j], nullptr).msae >= 0;
     if (!complete) continue;
     f.keys.push_back(key);
     f.model_of.push_back(p.model);

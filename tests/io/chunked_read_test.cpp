@@ -121,7 +121,9 @@ TEST_F(ChunkedReading, MutatedFilesGiveTheSameOutcomeInChunksAsWhole) {
   valid.emplace_back(".ply", encode_mesh(m, ".ply", WriteOptions{false}));
   valid.emplace_back(".obj", encode_mesh(m, ".obj"));
   int compared = 0;
-  for (const auto& [ext, text] : valid) {
+  for (const auto& entry : valid) {
+    const std::string& ext = entry.first;  // not a structured binding: lambdas below capture it (C++17)
+    const std::string& text = entry.second;
     std::mt19937 rng(static_cast<unsigned>(text.size()));
     for (int round = 0; round < 90; ++round) {
       std::string bytes = text;
