@@ -61,7 +61,7 @@ bool needs_full(const std::string& command, const std::vector<std::string>& args
   std::exit(kBadInput);
 }
 
-// Two runtime settings that are read from the environment only when the process starts, so the process
+// Runtime settings that are read from the environment only when the process starts, so the process
 // re-executes itself once with them set (each only if the user has not chosen it):
 // - Idle OpenMP threads spin for a while by default; on a busy machine (batch jobs side by side) that
 //   makes every parallel loop many times slower: passive waiting, after a short spin (GOMP_SPINCOUNT

@@ -1,12 +1,9 @@
 // Wavefront OBJ: "v x y z [r g b]" and "f a[/t[/n]] b c ..." (1-based, negative = relative).
 // Texture coordinates, per-corner normals, groups and materials are not kept.
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <memory>
 
+#include "file_chunks.h"
 #include "formats.h"
 #include "text_scanner.h"
 
@@ -105,32 +102,25 @@ Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::s
 }
 
 Mesh read_obj_file(const std::string& path, std::vector<std::string>& warnings, std::size_t chunk_bytes) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
+  FileChunks chunks(path, chunk_bytes);
   ObjParser parser(path, warnings);
-  std::string buffer;
-  std::size_t line = 1, carried = 0;  // bytes of an unfinished line kept at the front of the buffer
-  chunk_bytes = std::max<std::size_t>(chunk_bytes, 16);
+  std::size_t line = 1, carried = 0;  // bytes of an unfinished line at the end of the window
   for (;;) {
-    buffer.resize(carried + chunk_bytes);
-    const std::size_t got = std::fread(buffer.data() + carried, 1, chunk_bytes, f.get());
-    if (std::ferror(f.get()) != 0) throw InputError("cannot read '" + path + "': read error");
-    const std::size_t filled = carried + got;
-    if (got == 0) {  // end of file: the last line has no newline
-      line = parser.parse(std::string_view(buffer.data(), filled), line);
+    const std::string_view window = chunks.next(carried);
+    if (chunks.fresh() == 0) {  // end of file: the last line has no newline
+      parser.parse(window, line);
       break;
     }
     // Only the new bytes can hold a newline (the carried ones are one unfinished line), so a file of one
     // endless line is scanned once, not once per chunk.
-    const std::size_t found = std::string_view(buffer.data() + carried, got).rfind('\n');
+    const std::size_t found = window.substr(carried).rfind('\n');
     if (found == std::string_view::npos) {  // one line longer than the chunk: read on
-      carried = filled;
+      carried = window.size();
       continue;
     }
-    const std::size_t last_newline = carried + found;
-    line = parser.parse(std::string_view(buffer.data(), last_newline + 1), line);
-    carried = filled - (last_newline + 1);
-    std::memmove(buffer.data(), buffer.data() + last_newline + 1, carried);
+    const std::size_t end = carried + found + 1;
+    line = parser.parse(window.substr(0, end), line);
+    carried = window.size() - end;
   }
   return parser.finish();
 }

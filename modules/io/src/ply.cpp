@@ -4,13 +4,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <memory>
 
-#include <sys/stat.h>
-
+#include "file_chunks.h"
 #include "formats.h"
 #include "scanmesh/schema.h"
 #include "text_scanner.h"
@@ -356,51 +353,23 @@ Mesh read_ply_file(const std::string& path, std::vector<std::string>& warnings, 
                    std::size_t chunk_bytes) {
   auto whole = [&] { return read_ply(read_file(path), path, warnings, require_faces, grid); };
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return whole();  // read_file names the problem
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  struct stat st {};
-  if (!f || ::fstat(::fileno(f.get()), &st) != 0 || !S_ISREG(st.st_mode)) return whole();
-  const auto size = static_cast<std::size_t>(st.st_size);
-  chunk_bytes = std::max<std::size_t>(chunk_bytes, 64);
+  if (!std::filesystem::is_regular_file(path, ec)) return whole();  // read_file names the problem
+  const auto size = static_cast<std::size_t>(std::filesystem::file_size(path, ec));
+  if (ec) return whole();
+  FileChunks chunks(path, chunk_bytes);
   // The start of the file, read until it holds the whole header (else the file is read whole, and the
-  // reader says what is wrong with it).
+  // reader says what is wrong with it). Only the new bytes, and the few before them, are searched.
   constexpr std::size_t kMaxHeader = std::size_t{16} << 20;
-  std::string head;
-  while (head.find("end_header") == std::string::npos && head.size() < size && head.size() < kMaxHeader) {
-    const std::size_t had = head.size();
-    head.resize(std::min(size, had + std::max(chunk_bytes, had)));
-    head.resize(had + std::fread(head.data() + had, 1, head.size() - had, f.get()));
-    if (head.size() == had) break;
+  const std::string_view mark = "end_header";
+  std::string_view window = chunks.next(0);
+  while (window.find(mark, window.size() - std::min(window.size(), chunks.fresh() + mark.size())) == std::string_view::npos) {
+    if (chunks.fresh() == 0 || window.size() >= kMaxHeader) return whole();
+    window = chunks.next(window.size());
   }
-  if (head.find("end_header") == std::string::npos) {
-    f.reset();
-    return whole();
-  }
-  // The body a chunk at a time: the unread bytes of the window move to the front of the buffer, and the
-  // file fills the rest.
-  std::string buffer;
-  bool in_head = true;
-  std::size_t window_end = 0;  // end of the current window in `buffer` (once past the head)
-  const PlyRefill refill = [&](std::size_t keep) -> std::string_view {
-    if (in_head) {
-      buffer.assign(head, head.size() - keep, keep);
-      in_head = false;
-      std::string().swap(head);
-    } else {
-      buffer.erase(0, window_end - keep);
-    }
-    const std::size_t kept = buffer.size();
-    buffer.resize(std::max(chunk_bytes, kept + 64));
-    const std::size_t got = std::fread(buffer.data() + kept, 1, buffer.size() - kept, f.get());
-    if (std::ferror(f.get()) != 0) throw InputError("cannot read '" + path + "': read error");
-    buffer.resize(kept + got);
-    window_end = buffer.size();
-    return buffer;
-  };
+  const PlyRefill refill = [&](std::size_t keep) { return chunks.next(keep); };
   try {
-    return read_ply(head, path, warnings, require_faces, grid, size, &refill);
+    return read_ply(window, path, warnings, require_faces, grid, size, &refill);
   } catch (const PlyNeedsWholeFile&) {
-    f.reset();
     return whole();
   }
 }
