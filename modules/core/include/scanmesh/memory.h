@@ -6,8 +6,8 @@ namespace scanmesh {
 
 /// Returns the allocator's free pages to the system (glibc: malloc_trim; elsewhere nothing). Many small
 /// blocks freed after a large step (the k-d tree's result rows, per-row vectors) otherwise stay in the
-/// process and count towards its peak for the rest of the run. Costs a walk over the heap: call it after a
-/// step, not inside a loop.
+/// process and count towards its peak for the rest of the run. Less than 8 MiB of free memory is kept
+/// for the next step. Costs a walk over the heap: call it after a step, not inside a loop.
 void return_free_memory();
 
 /// Asks the system to back [p, p + bytes) with huge pages where it can (Linux: madvise MADV_HUGEPAGE on
