@@ -113,7 +113,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     std::vector<double> creases_at;  // by iteration (index 0: not measured)
     const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
     DenoiseReport rep = denoise(m, inner, progress, [&](int it, const std::vector<Vec3>& pos) {
-      compute_face_geometry(pos, m.faces, at);  // one pass for the check and the displacement
+      compute_face_geometry(pos, m.faces, at, false);  // one pass for the check and the displacement (no centroids)
       const double turned = turned_area_share(at, reference);
       bool fails = turned > std::max(input_turned, rules.turned_slack);
       volume_failed = false;
@@ -167,6 +167,25 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     return std::make_pair(rep, verdict);
   };
 
+  // Step 6: folds the run left, unfolded where that turns no more of the surface against the reference.
+  const std::vector<Vec3> input = mesh.positions;
+  auto unfold = [&](Mesh& m) {
+    if (r.run.iterations == 0) return;  // the input returned as it was
+    std::vector<Vec3> pos = m.positions;
+    r.unfold = unfold_faces(pos, m.faces, topo, input, reference);
+    if (r.unfold.moved == 0) return;
+    FaceGeometry before, after;
+    compute_face_geometry(m.positions, m.faces, before);
+    compute_face_geometry(pos, m.faces, after);
+    if (turned_area_share(after, reference) > turned_area_share(before, reference)) {
+      r.unfold.remaining = r.unfold.folds;
+      r.unfold.moved = 0;
+      return;
+    }
+    m.positions = std::move(pos);
+    refresh_stored_normals(m);
+  };
+
   if (na.isolated_outlier_share > rules.impulsive_share) {
     // Impulsive noise: a few vertices far off, the rest exact. Moving everyone would smooth away detail
     // the noise never touched; only the outliers move, towards the planes of their filtered normals.
@@ -182,6 +201,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.run = rep;
     r.check = verdict;
     r.options = o;
+    unfold(mesh);
     return r;
   }
 
@@ -236,6 +256,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.run = rep2;
     r.check = verdict2;
     r.options = smooth;
+    unfold(mesh);
   } else {
     r.mode = "sharp";
     if (decide)
@@ -249,6 +270,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.run = rep;
     r.check = verdict;
     r.options = sharp;
+    unfold(mesh);
   }
   return r;
 }

@@ -51,6 +51,10 @@ struct DenoiseStage : Stage {
                   a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
                   a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
     details = buf;
+    if (a.unfold.folds > 0) {
+      std::snprintf(buf, sizeof buf, "; folds unfolded %zu of %zu", a.unfold.folds - a.unfold.remaining, a.unfold.folds);
+      details += buf;
+    }
     decision_text = {{"mode", a.mode}, {"reason", a.reason}, {"stop_reason", a.run.stop_reason}, {"check", a.check}};
     decision_numbers = {{"noise_level", a.noise_level},
                         {"noise", a.noise},
@@ -62,7 +66,9 @@ struct DenoiseStage : Stage {
                         {"radius_factor", a.options.radius_factor},
                         {"iterations", static_cast<double>(a.run.iterations)},
                         {"probe_iterations", static_cast<double>(a.probe_iterations)},
-                        {"displacement", a.run.displacement}};
+                        {"displacement", a.run.displacement},
+                        {"folds", static_cast<double>(a.unfold.folds)},
+                        {"folds_left", static_cast<double>(a.unfold.remaining)}};
     warn_capped(a.run, m, ctx);
     if (a.check != "passed" && a.check != "not needed")
       ctx.warnings.push_back("mesh.denoise: the result check ended the run early (" + a.check + "); the last iteration that passed is kept");

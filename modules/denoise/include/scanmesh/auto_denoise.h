@@ -16,6 +16,9 @@
 //    filter is still taking noise out there.
 // 5. The result is checked (no more of the surface turned against the smoothed input than the input
 //    itself has, by area; volume kept); the last iteration that passed is returned (the input if none).
+// 6. Folds the run left (faces turned against the smoothed input and their own neighbours) are relaxed
+//    locally (unfold_faces.h), unless the input was returned; kept only if they turn no more of the
+//    surface than before.
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
 // tuning corpus (bench/auto_cv.cpp, README "Choosing parameters automatically").
 #include <string>
@@ -24,6 +27,7 @@
 #include "scanmesh/denoise.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/mesh.h"
+#include "scanmesh/unfold_faces.h"
 
 namespace scanmesh {
 
@@ -88,6 +92,7 @@ struct AutoReport {
   DenoiseReport run;           ///< iterations, stop reason, timings of the final run
   int probe_iterations = 0;    ///< iterations spent on a probe that was discarded
   std::string check;           ///< outcome of the result check
+  UnfoldReport unfold;         ///< folds found after the run and left after unfolding (step 6)
 };
 
 /// What the result check measures: the share of the surface (by area) whose faces point against the

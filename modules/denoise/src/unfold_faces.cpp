@@ -1,0 +1,121 @@
+#include "scanmesh/unfold_faces.h"
+
+#include <algorithm>
+#include <array>
+
+namespace scanmesh {
+namespace {
+
+// A face counts as a sliver in the input above this circumradius / shortest edge (equilateral: 0.577);
+// the same limit the corpus benches use to count slivers.
+constexpr double kSliverShape = 3.0;
+
+Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
+
+}  // namespace
+
+UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
+                          const std::vector<Vec3>& input, const std::vector<Vec3>& reference, int rounds, double step) {
+  UnfoldReport report;
+  const std::size_t nf = faces.size(), nv = positions.size();
+  if (nf == 0 || reference.size() != nf || input.size() != nv || topology.vertex_faces.rows() != nv) return report;
+
+  // Boundary neighbours: a boundary vertex with exactly two boundary edges moves along the boundary only.
+  std::vector<std::array<int, 2>> along(nv, {-1, -1});
+  std::vector<int> boundary_edges(nv, 0);
+  for (std::size_t e = 0; e < topology.edges.size(); ++e) {
+    if (topology.edge_faces.size(e) != 1) continue;
+    for (int k = 0; k < 2; ++k) {
+      const int v = topology.edges[e][k], other = topology.edges[e][1 - k];
+      if (boundary_edges[v] < 2) along[v][boundary_edges[v]] = other;
+      ++boundary_edges[v];
+    }
+  }
+
+  auto normal_at = [&](std::size_t f) { return raw_normal(positions[faces[f][0]], positions[faces[f][1]], positions[faces[f][2]]); };
+  auto turned = [&](std::size_t f) { return normal_at(f).dot(reference[f]) < 0.0; };
+  auto input_sliver = [&](std::size_t f) {
+    const Face& t = faces[f];
+    return triangle_shape(input[t[0]], input[t[1]], input[t[2]]) > kSliverShape;
+  };
+  // A fold: turned against the reference, and against the area-weighted normals of its unturned
+  // edge neighbours (a face whose whole neighbourhood disagrees with the reference is not a fold: the
+  // reference is what is off there, e.g. across a thin wall).
+  auto is_fold = [&](std::size_t f) {
+    if (!turned(f) || input_sliver(f)) return false;
+    Vec3 around = Vec3::Zero();
+    for (const int* g = topology.face_faces.begin(f); g != topology.face_faces.end(f); ++g)
+      if (!turned(static_cast<std::size_t>(*g))) around += normal_at(static_cast<std::size_t>(*g));  // |raw normal| = 2 x area
+    return normal_at(f).dot(around) < 0.0;
+  };
+  // Faces around v turned against the reference with v at p.
+  auto turned_around = [&](int v, const Vec3& p) {
+    int n = 0;
+    for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f) {
+      const Face& t = faces[*f];
+      const Vec3& a = t[0] == v ? p : positions[t[0]];
+      const Vec3& b = t[1] == v ? p : positions[t[1]];
+      const Vec3& c = t[2] == v ? p : positions[t[2]];
+      n += raw_normal(a, b, c).dot(reference[*f]) < 0.0 ? 1 : 0;
+    }
+    return n;
+  };
+
+  // Faces to look at: all of them first, then only those around the vertices that moved.
+  std::vector<int> look(nf);
+  for (std::size_t f = 0; f < nf; ++f) look[f] = static_cast<int>(f);
+  std::vector<int> stamp_face(nf, -1), stamp_vertex(nv, -1), corners;
+  std::vector<std::pair<int, Vec3>> moves;
+  for (int round = 0;; ++round) {
+    corners.clear();
+    std::size_t folds = 0;
+    for (int f : look) {
+      if (!is_fold(static_cast<std::size_t>(f))) continue;
+      ++folds;
+      for (int v : faces[f])
+        if (stamp_vertex[v] != round) stamp_vertex[v] = round, corners.push_back(v);
+    }
+    if (round == 0) report.folds = folds;
+    report.remaining = folds;
+    if (folds == 0 || round == rounds) break;
+    std::sort(corners.begin(), corners.end());
+    moves.clear();
+    for (int v : corners) {
+      Vec3 mean = Vec3::Zero();
+      int n = 0;
+      if (topology.boundary_vertex[v] != 0) {
+        if (boundary_edges[v] != 2) continue;
+        mean = positions[along[v][0]] + positions[along[v][1]];
+        n = 2;
+      } else {
+        for (const int* u = topology.vertex_vertices.begin(v); u != topology.vertex_vertices.end(v); ++u, ++n) mean += positions[*u];
+      }
+      if (n == 0) continue;
+      Vec3 up = Vec3::Zero();
+      for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f) up += reference[*f];
+      const double len = up.norm();
+      if (len > 0.0) up /= len;
+      Vec3 d = mean / n - positions[v];
+      d -= d.dot(up) * up;
+      const Vec3 p = positions[v] + step * d;
+      if (turned_around(v, p) <= turned_around(v, positions[v])) moves.emplace_back(v, p);
+    }
+    if (moves.empty()) break;
+    // Every move was judged against the positions of this round; they are made together.
+    look.clear();
+    for (const auto& [v, p] : moves) {
+      positions[v] = p;
+      for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
+        for (const int* g = topology.face_faces.begin(*f); g != topology.face_faces.end(*f); ++g)  // a fold's test reads its neighbours
+          if (stamp_face[*g] != round) stamp_face[*g] = round, look.push_back(*g);
+    }
+    for (const auto& [v, p] : moves)
+      for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
+        if (stamp_face[*f] != round) stamp_face[*f] = round, look.push_back(*f);
+    std::sort(look.begin(), look.end());
+    report.moved += moves.size();
+  }
+  return report;
+}
+
+}  // namespace scanmesh

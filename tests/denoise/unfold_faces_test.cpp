@@ -1,0 +1,95 @@
+#include "scanmesh/unfold_faces.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "helpers.h"
+
+using namespace scanmesh;
+
+namespace {
+
+std::vector<Vec3> up(const Mesh& m) { return std::vector<Vec3>(m.faces.size(), Vec3(0, 0, 1)); }
+
+int turned(const Mesh& m, const std::vector<Vec3>& positions) {
+  int n = 0;
+  for (const Face& f : m.faces) n += (positions[f[1]] - positions[f[0]]).cross(positions[f[2]] - positions[f[0]]).z() < 0.0 ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+TEST(UnfoldFaces, AFoldInAPlaneIsUndoneWithinThePlane) {
+  const Mesh grid = test::make_grid(8);
+  const Topology t = build_topology(grid);
+  const int v = 4 * 9 + 4;  // an interior vertex, pulled across its neighbours' edges
+  std::vector<Vec3> folded = grid.positions;
+  folded[v] += Vec3(1.6, 0.3, 0.0);
+  ASSERT_GT(turned(grid, folded), 0);
+  std::vector<Vec3> p = folded;
+  const UnfoldReport r = unfold_faces(p, grid.faces, t, grid.positions, up(grid));
+  EXPECT_GT(r.folds, 0u);
+  EXPECT_EQ(r.remaining, 0u);
+  EXPECT_EQ(turned(grid, p), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_EQ(p[i].z(), 0.0) << i;  // moves stay in the plane
+    // Only the fold's corners move.
+    if ((grid.positions[i] - grid.positions[v]).norm() > 1.5) {
+      EXPECT_EQ(p[i], folded[i]) << i;
+    }
+  }
+}
+
+TEST(UnfoldFaces, AMeshWithoutFoldsIsAFixedPoint) {
+  const Mesh sphere = test::make_sphere(3);
+  const Topology t = build_topology(sphere);
+  FaceGeometry g;
+  compute_face_geometry(sphere.positions, sphere.faces, g);
+  std::vector<Vec3> p = sphere.positions;
+  const UnfoldReport r = unfold_faces(p, sphere.faces, t, sphere.positions, g.normals);
+  EXPECT_EQ(r.folds, 0u);
+  EXPECT_EQ(r.moved, 0u);
+  EXPECT_EQ(p, sphere.positions);
+}
+
+TEST(UnfoldFaces, ABoundaryVertexMovesAlongTheBoundary) {
+  const Mesh grid = test::make_grid(6);
+  const Topology t = build_topology(grid);
+  const int v = 3;  // on the edge y = 0, pulled along it past its neighbour
+  std::vector<Vec3> folded = grid.positions;
+  folded[v] += Vec3(1.5, 0.0, 0.0);
+  ASSERT_GT(turned(grid, folded), 0);
+  std::vector<Vec3> p = folded;
+  const UnfoldReport r = unfold_faces(p, grid.faces, t, grid.positions, up(grid));
+  EXPECT_EQ(r.remaining, 0u);
+  EXPECT_EQ(turned(grid, p), 0);
+  EXPECT_EQ(p[v].y(), 0.0);  // still on the boundary line
+  EXPECT_EQ(p[v].z(), 0.0);
+}
+
+TEST(UnfoldFaces, FacesTurnedWithTheirWholeNeighbourhoodAreLeftAlone) {
+  // A reference that disagrees with every face is what is off (as across a thin wall): nothing is a fold.
+  const Mesh grid = test::make_grid(5);
+  const Topology t = build_topology(grid);
+  std::vector<Vec3> p = grid.positions;
+  const UnfoldReport r = unfold_faces(p, grid.faces, t, grid.positions, std::vector<Vec3>(grid.faces.size(), Vec3(0, 0, -1)));
+  EXPECT_EQ(r.folds, 0u);
+  EXPECT_EQ(p, grid.positions);
+}
+
+TEST(UnfoldFaces, SliversOfTheInputAreLeftAlone) {
+  // A fold whose faces were slivers before denoising: their normals are noise, so they are not moved.
+  Mesh grid = test::make_grid(8);
+  const int v = 4 * 9 + 4;
+  std::vector<Vec3> input = grid.positions;
+  input[v] = grid.positions[v + 1] + Vec3(-0.01, 0.0, 0.0);  // squashed against its neighbour: slivers
+  std::vector<Vec3> p = input;
+  p[v] += Vec3(0.05, 0.0, 0.0);  // across the neighbour: turned
+  ASSERT_GT(turned(grid, p), 0);
+  const std::vector<Vec3> before = p;
+  const Topology t = build_topology(grid);
+  const UnfoldReport r = unfold_faces(p, grid.faces, t, input, up(grid));
+  EXPECT_EQ(r.moved, 0u);
+  EXPECT_EQ(p, before);
+}
