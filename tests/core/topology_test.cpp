@@ -199,3 +199,21 @@ TEST(Parallel, AThreadScopeSetsTheCountAndRestoresIt) {
   EXPECT_EQ(scanmesh::thread_count(), 2);
   scanmesh::set_thread_count(0);
 }
+
+TEST(Parallel, AnOrderedSumHasTheSameBitsForEveryThreadCount) {
+  // Terms whose sum depends on the order of the additions (1e16 + 1 - 1e16 is 0 or 1): any thread count
+  // must add them as blocks of 1024 in order, block sums in order.
+  const long n = 10000;
+  auto term = [](long i) { return i % 3 == 0 ? 1e16 : (i % 3 == 1 ? 1.0 + 1e-3 * static_cast<double>(i) : -1e16); };
+  double serial = 0.0;
+  for (long b = 0; b < n; b += 1024) {
+    double s = 0.0;
+    for (long i = b; i < std::min(n, b + 1024); ++i) s += term(i);
+    serial += s;
+  }
+  for (int threads : {1, 2, 3, 7}) {
+    const scanmesh::ThreadScope scope(threads);
+    EXPECT_EQ(scanmesh::ordered_sum(n, 0.0, term), serial) << threads << " threads";
+  }
+  EXPECT_EQ(scanmesh::ordered_sum(0, 0.0, term), 0.0);
+}

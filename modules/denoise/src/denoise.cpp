@@ -14,6 +14,7 @@
 #include "scanmesh/geometry.h"
 #include "scanmesh/memory.h"
 #include "scanmesh/normal_filtering.h"
+#include "scanmesh/parallel.h"
 #include "scanmesh/topology.h"
 #include "scanmesh/vertex_update.h"
 
@@ -179,6 +180,7 @@ struct DenoiseCache::State {
   // prefiltered_normals() for the next run, which takes it (a run trims what it holds, so it is not
   // kept for later runs: holding a copy would add ~80 bytes per face to --auto's peak).
   std::unique_ptr<Topology> topology;
+  bool keep_topology = false;  // DenoiseCache::keep_topology, for the run in progress
 };
 
 DenoiseCache::DenoiseCache() = default;
@@ -234,6 +236,7 @@ const PackedRows& input_neighbourhoods(DenoiseCache::State* cached, const Topolo
 // `with_face_faces`).
 Topology take_topology(DenoiseCache::State* cached, const Mesh& mesh, bool with_face_faces) {
   if (cached == nullptr || !cached->topology) return build_topology(mesh, with_face_faces);
+  if (cached->keep_topology) return *cached->topology;
   Topology t = std::move(*cached->topology);
   cached->topology.reset();
   return t;
@@ -404,6 +407,7 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
   DenoiseCache::State* cached = nullptr;
   SpatialOrder own_order;
   const SpatialOrder& order = order_of(mesh, cache, &cached, own_order);
+  if (cached != nullptr) cached->keep_topology = cache->keeps_topology();
   Mesh local = in_spatial_order(mesh, order);
   struct GiveBack {
     Mesh& caller;
@@ -500,15 +504,14 @@ double normal_displacement(const Topology& topology, const std::vector<Face>& fa
 double normal_displacement(const Topology& topology, const FaceGeometry& geometry, const std::vector<Vec3>& from,
                            const std::vector<Vec3>& to) {
   // Each vertex normal as it is needed: a table of them was the denoiser's peak memory on large meshes.
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t v = 0; v < to.size(); ++v) {
-    if (topology.vertex_faces.size(v) == 0) continue;
-    const double d = (to[v] - from[v]).dot(vertex_normal(topology, geometry, v));
-    sum += d * d;
-    ++n;
-  }
-  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+  // (sum of squares, vertices with faces)
+  const Eigen::Vector2d s = ordered_sum(static_cast<long>(to.size()), Eigen::Vector2d(0, 0), [&](long v) {
+    const auto u = static_cast<std::size_t>(v);
+    if (topology.vertex_faces.size(u) == 0) return Eigen::Vector2d(0, 0);
+    const double d = (to[u] - from[u]).dot(vertex_normal(topology, geometry, u));
+    return Eigen::Vector2d(d * d, 1.0);
+  });
+  return s[1] > 0 ? std::sqrt(s[0] / s[1]) : 0.0;
 }
 
 }  // namespace scanmesh

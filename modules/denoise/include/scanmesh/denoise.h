@@ -150,8 +150,15 @@ class DenoiseCache {
   DenoiseCache& operator=(const DenoiseCache&) = delete;
   /// Entries of the neighbourhood table it holds (0 before a run has filled it).
   [[nodiscard]] std::size_t cached_neighbours() const;
+  /// With `keep`, a run copies the connectivity the cache holds instead of taking it, so a later run on
+  /// the same mesh needs no second build (the copy costs about 80 bytes per face while both live).
+  void keep_topology(bool keep) { keep_topology_ = keep; }
+  [[nodiscard]] bool keeps_topology() const { return keep_topology_; }
   struct State;
   std::unique_ptr<State> state;
+
+ private:
+  bool keep_topology_ = false;
 };
 
 /// Denoises `mesh` in place. Connectivity, vertex order and vertex properties are kept; stored vertex
