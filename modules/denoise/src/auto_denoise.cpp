@@ -6,8 +6,8 @@
 
 #include "scanmesh/geometry.h"
 #include "scanmesh/noise_analysis.h"
-#include "scanmesh/parallel.h"
 #include "scanmesh/normal_filtering.h"
+#include "scanmesh/parallel.h"
 #include "scanmesh/topology.h"
 
 namespace scanmesh {

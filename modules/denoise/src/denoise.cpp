@@ -177,8 +177,9 @@ struct DenoiseCache::State {
   PackedRows neighbourhoods;
   std::size_t capped = 0;
   // The input's connectivity in spatial order (it does not depend on the scale or the options), left by
-  // prefiltered_normals() for the next run, which takes it (a run trims what it holds, so it is not
-  // kept for later runs: holding a copy would add ~80 bytes per face to --auto's peak).
+  // prefiltered_normals() for the next run, which takes it (a run trims what it holds). A run copies it
+  // instead only while the caller asks (DenoiseCache::keep_topology; --auto on small meshes): holding a
+  // copy adds ~80 bytes per face to --auto's peak.
   std::unique_ptr<Topology> topology;
   bool keep_topology = false;  // DenoiseCache::keep_topology, for the run in progress
 };
