@@ -18,14 +18,20 @@ int turned(const Mesh& m, const std::vector<Vec3>& positions) {
   return n;
 }
 
+// The grid's positions with vertex v moved by `by`.
+std::vector<Vec3> pulled(const Mesh& grid, int v, const Vec3& by) {
+  std::vector<Vec3> p = grid.positions;
+  p[static_cast<std::size_t>(v)] += by;
+  return p;
+}
+
 }  // namespace
 
 TEST(UnfoldFaces, AFoldInAPlaneIsUndoneWithinThePlane) {
   const Mesh grid = test::make_grid(8);
   const Topology t = build_topology(grid);
   const int v = 4 * 9 + 4;  // an interior vertex, pulled across its neighbours' edges
-  std::vector<Vec3> folded = grid.positions;
-  folded[v] += Vec3(1.6, 0.3, 0.0);
+  const std::vector<Vec3> folded = pulled(grid, v, Vec3(1.6, 0.3, 0.0));
   ASSERT_GT(turned(grid, folded), 0);
   std::vector<Vec3> p = folded;
   const UnfoldReport r = unfold_faces(p, grid.faces, t, grid.positions, up(grid));
@@ -57,10 +63,8 @@ TEST(UnfoldFaces, ABoundaryVertexMovesAlongTheBoundary) {
   const Mesh grid = test::make_grid(6);
   const Topology t = build_topology(grid);
   const int v = 3;  // on the edge y = 0, pulled along it past its neighbour
-  std::vector<Vec3> folded = grid.positions;
-  folded[v] += Vec3(1.5, 0.0, 0.0);
-  ASSERT_GT(turned(grid, folded), 0);
-  std::vector<Vec3> p = folded;
+  std::vector<Vec3> p = pulled(grid, v, Vec3(1.5, 0.0, 0.0));
+  ASSERT_GT(turned(grid, p), 0);
   const UnfoldReport r = unfold_faces(p, grid.faces, t, grid.positions, up(grid));
   EXPECT_EQ(r.remaining, 0u);
   EXPECT_EQ(turned(grid, p), 0);
