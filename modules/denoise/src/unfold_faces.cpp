@@ -103,16 +103,19 @@ UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>&
     }
     if (moves.empty()) break;
     // Every move was judged against the positions of this round; they are made together.
+    // Next round looks at the faces around the moved vertices and their edge neighbours (a fold's test
+    // reads its neighbours).
     look.clear();
+    auto mark = [&](int f) {
+      if (stamp_face[f] != round) stamp_face[f] = round, look.push_back(f);
+    };
     for (const auto& [v, p] : moves) {
       positions[v] = p;
-      for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
-        for (const int* g = topology.face_faces.begin(*f); g != topology.face_faces.end(*f); ++g)  // a fold's test reads its neighbours
-          if (stamp_face[*g] != round) stamp_face[*g] = round, look.push_back(*g);
+      for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f) {
+        mark(*f);
+        for (const int* g = topology.face_faces.begin(*f); g != topology.face_faces.end(*f); ++g) mark(*g);
+      }
     }
-    for (const auto& [v, p] : moves)
-      for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f)
-        if (stamp_face[*f] != round) stamp_face[*f] = round, look.push_back(*f);
     std::sort(look.begin(), look.end());
     report.moved += moves.size();
   }
