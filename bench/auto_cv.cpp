@@ -65,8 +65,9 @@ struct Outcome {
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
 template <class Probe>
 const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, double target, int cap, Probe probe,
-                       bool& probed_out, bool while_falling = false) {
+                       bool& probed_out, bool while_falling = false, int* target_it = nullptr) {
   const Checkpoint* last = nullptr;
+  if (target_it) *target_it = 0;
   // Grids with the turned area replay the shipped check exactly; older ones by counting faces.
   const bool by_area = p.input_turned_area >= 0.0;
   const double allowed = by_area ? std::max(p.input_turned_area, r.turned_slack)
@@ -84,7 +85,10 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
       if (while_falling && r.crease_fall > 0.0)
         for (const Checkpoint& h : curve)
           if (h.it >= 1 && h.it <= c.it / 2) half = &h;
-      if (!(half && c.s20 - c.s45 < r.crease_fall * (half->s20 - half->s45))) break;
+      if (!(half && c.s20 - c.s45 < r.crease_fall * (half->s20 - half->s45))) {
+        if (target_it) *target_it = c.it;
+        break;
+      }
     }
     if (!probe(c)) {
       probed_out = true;
@@ -129,12 +133,26 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     return true;
   };
   const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
-  const Checkpoint* e = walk(*sharp, p, r, target, r.max_iterations, decide, stopped, true);
+  int target_it = 0;
+  const Checkpoint* e = walk(*sharp, p, r, target, r.max_iterations, decide, stopped, true, &target_it);
   if (creases < 0.0 && e) {  // the run ended before the first probe
     creases = e->s20 - e->s45;
     decided_smooth = creases > limit;
   }
-  if (!decided_smooth && clear && target > 0.0) e = walk(*sharp, p, r, 0.0, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
+  // The plateau rule: at its target (iteration t) the run looks on to 2t; if the displacement grew by less
+  // than r.plateau_growth of itself meanwhile, the surface has levelled off and every iteration runs.
+  bool level = false;
+  if (!decided_smooth && !clear && target_it > 0 && r.plateau_growth > 0.0) {
+    const Checkpoint* at_t = nullptr;
+    const Checkpoint* at_2t = nullptr;
+    for (const Checkpoint& c : *sharp) {
+      if (c.it == target_it) at_t = &c;
+      if (c.it <= 2 * target_it && c.it <= r.max_iterations) at_2t = &c;
+    }
+    level = at_t && at_2t && at_2t->ndisp - at_t->ndisp < r.plateau_growth * at_t->ndisp;
+  }
+  if (!decided_smooth && (clear || level) && target > 0.0)
+    e = walk(*sharp, p, r, 0.0, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
   if (decided_smooth) {
     const Checkpoint* s = walk(*smooth, p, r, (r.smooth_target + r.smooth_target_per_level * p.level) * noise, r.max_iterations,
                                [](const Checkpoint&) { return true; }, stopped);
@@ -161,9 +179,11 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                   for (double to : {0.45, 0.5, 0.55, 0.6})
                     for (double to_level : {0.0, 0.5, 0.75, 1.0})
                     for (double slack : {1.0, 0.002})
-                      for (double fall : {0.0, 0.5, 0.7}) {
+                      for (double fall : {0.0, 0.5, 0.7})
+                      for (double plateau : {0.0, 0.01, 0.015, 0.02, 0.025}) {
                       Candidate c;
                       AutoRules& r = c.rules;
+                      r.plateau_growth = plateau;
                       r.crease_fall = fall;
                       r.impulsive_share = imp;
                       r.outlier_jump = oj;
@@ -280,9 +300,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way) | turned slack %g\n",
+              "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way; levelled below +%.3f) | turned slack %g\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.plateau_growth, r.turned_slack);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {

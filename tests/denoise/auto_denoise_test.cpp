@@ -107,9 +107,9 @@ TEST(AutoDenoise, KeepsTheEdgesOfANoisyCube) {
   EXPECT_EQ(r.flipped_faces, 0u);
 }
 
-// A noisy cube has almost no soft creases once the probe has run: it is clearly machined, so the displacement stop is
-// lifted and its flat faces keep improving; with the rule off the same run stops at the target.
-TEST(AutoDenoise, AClearlyMachinedPartRunsPastTheDisplacementTarget) {
+// A noisy cube's displacement levels off once the noise is out while its flat faces keep improving: the
+// plateau rule lifts the displacement stop. With the rule off the same run stops at the target.
+TEST(AutoDenoise, AMachinedPartWhoseDisplacementLevelsOffRunsPastTheTarget) {
   const Mesh clean = test::make_cube(24);
   Mesh input = clean;
   NoiseOptions n;
@@ -118,16 +118,43 @@ TEST(AutoDenoise, AClearlyMachinedPartRunsPastTheDisplacementTarget) {
   n.seed = 1;
   add_noise(input, n);
   Mesh with = input, without = input;
-  AutoRules off;
-  off.clear_sharp_share = 0.0;
-  const AutoReport a = denoise_auto(with, {}, {}, AutoRules{});
+  AutoRules on, off;
+  on.clear_sharp_share = off.clear_sharp_share = 0.0;  // this rule alone
+  on.plateau_growth = 0.02;
+  off.plateau_growth = 0.0;
+  const AutoReport a = denoise_auto(with, {}, {}, on);
   const AutoReport b = denoise_auto(without, {}, {}, off);
   ASSERT_EQ(a.mode, "sharp") << a.reason;
   ASSERT_EQ(b.mode, "sharp") << b.reason;
   EXPECT_EQ(b.run.stop_reason, "target displacement");
   EXPECT_NE(a.run.stop_reason, "target displacement");
-  EXPECT_GT(a.run.iterations, b.run.iterations);
-  EXPECT_LE(evaluate(with, &clean).msae_deg, evaluate(without, &clean).msae_deg);
+  EXPECT_NE(a.reason.find("levelled off"), std::string::npos) << a.reason;
+  EXPECT_GT(a.run.iterations, 2 * b.run.iterations);
+  EXPECT_LT(evaluate(with, &clean).msae_deg, evaluate(without, &clean).msae_deg);
+}
+
+// A coarse sphere under weak noise and the feature-keeping kernel keeps moving after its target (18
+// iterations; the narrow kernel goes on flattening it into facets): the plateau rule looks on to twice the
+// target's iterations, sees the growth and returns the target's iteration, bit for bit what the run without
+// the rule returns.
+TEST(AutoDenoise, ARunThatKeepsMovingReturnsItsTargetIteration) {
+  const Mesh clean = test::make_sphere(3);
+  const Mesh input = noisy(clean, 0.2);
+  Mesh with = input, without = input;
+  DenoiseOptions given;
+  given.sigma_s = 0.7;  // the feature-keeping run, no smooth/sharp decision
+  AutoRules on, off;
+  on.clear_sharp_share = off.clear_sharp_share = 0.0;
+  on.plateau_growth = 0.02;
+  off.plateau_growth = 0.0;
+  const AutoReport a = denoise_auto(with, given, {"sigma_s"}, on);
+  const AutoReport b = denoise_auto(without, given, {"sigma_s"}, off);
+  ASSERT_EQ(b.run.stop_reason, "target displacement");
+  EXPECT_EQ(a.run.stop_reason, "target displacement");
+  EXPECT_EQ(a.run.iterations, b.run.iterations);
+  EXPECT_EQ(a.reason.find("levelled off"), std::string::npos) << a.reason;
+  ASSERT_EQ(with.positions.size(), without.positions.size());
+  EXPECT_EQ(0, std::memcmp(with.positions.data(), without.positions.data(), with.positions.size() * sizeof(Vec3)));
 }
 
 // Generality, not a fitted case: no model of this kind is in the tuning corpus. The refined bands must not
@@ -154,7 +181,8 @@ TEST(AutoDenoise, ALocallyRefinedCylinderStaysMachined) {
 // joined to the coarse side by zipper strips of slivers (test::make_zippered_cylinder, also a model of the
 // tuning corpus). Its run reaches the displacement target after 9 iterations, while the slivers' soft
 // creases are still halving every few iterations; the target must not end it there (the filter is still
-// taking noise out), and at the probe the part is clearly machined: it runs on and beats the defaults.
+// taking noise out), and once it reaches the target its displacement has levelled off: it runs on and
+// beats its own target-stopped run.
 TEST(AutoDenoise, AZipperedRefinedCylinderRunsWhileItsCreasesFall) {
   const Mesh clean = test::make_zippered_cylinder();
   const TopologyStats t = evaluate(clean, nullptr).topology;

@@ -99,6 +99,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   using ProbeFn = std::function<Probe(int, const std::vector<Vec3>&)>;
   // With `while_falling`, the target does not end the run while the soft creases are still falling fast
   // (below rules.crease_fall x their share at half the iterations): the filter is still taking noise out.
+  //
+  // With `while_falling` (the feature-keeping run) the plateau rule applies too: at the target, at iteration
+  // t, the run goes on to 2t; if its displacement grew by less than rules.plateau_growth of itself
+  // meanwhile, the surface has levelled off (flat and developable parts keep improving while nothing more
+  // moves) and the run goes on without a target
+  // (`levelled_at` = t); otherwise it returns iteration t. The probe is not asked after the target.
+  int levelled_at = 0;
+  std::vector<Vec3> at_target_positions;  // what the levelled run kept at its target
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling) {
     const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
     const double target = opt.target_displacement * edge;
@@ -114,6 +122,21 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     FaceGeometry at;
     std::vector<double> creases_at;  // by iteration (index 0: not measured)
     const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
+    const bool plateau = while_falling && target_on && rules.plateau_growth > 0.0;
+    std::vector<double> moved;  // normal displacement by iteration (index 0: the input, 0)
+    int target_it = 0;          // where the target was reached, while the plateau rule looks on to 2 x target_it
+    bool revert = false;
+    struct Snapshot {
+      std::vector<Vec3> accepted;
+      int last_pass = 0;
+      double last_turned = 0.0, last_volume_change = 0.0;
+      bool volume_failed = false;
+    } at_target;
+    // Whether the displacement levelled off between target_it and `it`.
+    auto levelled = [&](int it) {
+      const double d_t = moved[static_cast<std::size_t>(target_it)];
+      return moved[static_cast<std::size_t>(it)] - d_t < rules.plateau_growth * d_t;
+    };
     DenoiseReport rep = denoise(m, inner, progress, [&](int it, const std::vector<Vec3>& pos) {
       compute_face_geometry(pos, m.faces, at, false);  // one pass for the check and the displacement (no centroids)
       const double turned = turned_area_share(at, reference);
@@ -135,17 +158,55 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
         creases_at[it] = soft_crease_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
       }
-      if (target_on && normal_displacement(topo, at, start, pos) >= target) {
-        const bool falling = track && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
-        if (!falling) {
-          reached = true;
+      if (target_on) {
+        const double d = normal_displacement(topo, at, start, pos);
+        if (plateau) {
+          moved.resize(static_cast<std::size_t>(it) + 1, 0.0);
+          moved[static_cast<std::size_t>(it)] = d;
+        }
+        if (target_it > 0) {  // the plateau rule looks on from the target
+          if (it < 2 * target_it) return true;
+          if (levelled(it)) {
+            levelled_at = target_it;
+            target_on = false;
+            return true;
+          }
+          revert = true;
           return false;
         }
+        if (d >= target) {
+          const bool falling = track && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
+          if (!falling) {
+            reached = true;
+            if (!plateau) return false;
+            target_it = it;
+            at_target = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
+            return true;
+          }
+        }
       }
+      if (target_it > 0) return true;  // past the target: no more probing
       const Probe next = probe ? probe(it, pos) : Probe::go_on;
       if (next == Probe::no_target) target_on = false;
       return next != Probe::stop;
     }, &cache);
+    // The run ended (iteration cap, result check) before 2 x target_it: decided on what it reached.
+    if (target_it > 0 && target_on && !revert) {
+      const int last = static_cast<int>(moved.size()) - 1;
+      if (last > target_it && levelled(last)) levelled_at = target_it;
+      else revert = true;
+    }
+    if (levelled_at > 0) at_target_positions = std::move(at_target.accepted);
+    if (revert) {
+      accepted = std::move(at_target.accepted);
+      last_pass = at_target.last_pass;
+      last_turned = at_target.last_turned;
+      last_volume_change = at_target.last_volume_change;
+      volume_failed = at_target.volume_failed;
+      rep.iterations = target_it;
+    } else if (levelled_at > 0) {
+      reached = false;
+    }
     if (last_pass < rep.iterations) {
       if (volume_failed)
         std::snprintf(line, sizeof line, "the last %d iterations changed the volume by more than %.2f%% (the last: %.2f%%); iteration %d kept",
@@ -249,8 +310,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   cache.keep_topology(mesh.num_faces() <= 100000);
   auto [rep, verdict] = checked_run(trial, sharp, probe, true);
   cache.keep_topology(false);
-  if (decide && creases < 0.0)  // ended before the probe
-    creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+  if (decide && creases < 0.0)  // reached its target before the probe: judged at the target
+    creases = soft_crease_share(levelled_at > 0 ? at_target_positions : trial.positions, mesh, topo, rules.soft_crease_min_deg,
+                                rules.soft_crease_max_deg);
   r.crease_share = creases;
   if (decide && creases > crease_limit) {
     r.mode = "smooth";
@@ -270,9 +332,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     if (decide)
       std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases%s",
                     std::min(rep.iterations, rules.probe_iterations), 100.0 * creases,
-                    clear ? " (clearly machined: no displacement stop)" : "");
+                    clear             ? " (clearly machined: no displacement stop)"
+                    : levelled_at > 0 ? "; the displacement levelled off after the target (no displacement stop)"
+                                      : "");
     else
-      std::snprintf(line, sizeof line, "sigma_s given: one run");
+      std::snprintf(line, sizeof line, "sigma_s given: one run%s",
+                    levelled_at > 0 ? "; the displacement levelled off after the target (no displacement stop)" : "");
     r.reason = line;
     mesh = std::move(trial);
     r.run = rep;

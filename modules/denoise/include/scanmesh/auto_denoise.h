@@ -10,8 +10,9 @@
 //    still full of soft creases (20-45 degrees; the features of machined parts are sharper), they are
 //    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel.
 //    Either run stops by the discrepancy principle, once the vertices have moved about as far as the noise
-//    displaced them, except a clearly machined part (almost no soft creases at the probe), whose flat
-//    faces keep improving: it runs all iterations. The feature-keeping run does not stop while its soft
+//    displaced them. The feature-keeping run then looks on to twice its iterations: if the displacement
+//    has levelled off meanwhile (flat and developable faces keep improving while nothing more moves), it
+//    runs all iterations, else it returns the target's iteration. It does not stop while its soft
 //    creases are still falling fast (less than half of what they were at half the iterations): the
 //    filter is still taking noise out there.
 // 5. The result is checked (no more of the surface turned against the smoothed input than the input
@@ -53,13 +54,18 @@ struct AutoRules {
   double crease_share = 0.015;        ///< share of soft creases at the probe above which the mesh is smooth...
   double crease_share_per_level = 0.05;  ///< ...plus this times the noise level (strong noise leaves more)
   /// Below this share of soft creases at the first probe the part is clearly machined: no stopping rule,
-  /// every iteration runs (flat faces keep improving long after the noise-sized displacement). 0 = off.
-  double clear_sharp_share = 0.008;
+  /// every iteration runs (flat faces keep improving long after the noise-sized displacement). 0 = off:
+  /// the fit replaced it with plateau_growth (a share of creases depends on the mesh's resolution).
+  double clear_sharp_share = 0.0;
   double sharp_target = 0.8;      ///< discrepancy target, x the robust noise estimate, feature-keeping run
   /// ...which does not end that run while its soft creases are still falling fast: below this share of
   /// their value at half the iterations (the filter is still taking noise out, as on a part whose
   /// slivers keep creases long after the noise-sized displacement). 0 = off.
   double crease_fall = 0.5;
+  /// When the feature-keeping run reaches its target at iteration t, it goes on to 2t; if its displacement
+  /// grew by less than this share meanwhile, the surface has levelled off (flat and developable parts keep
+  /// improving while nothing moves) and every iteration runs; otherwise iteration t is returned. 0 = off.
+  double plateau_growth = 0.02;
   double smooth_target = 0.5;     ///< the same for the wide-kernel run...
   /// ...plus this times the noise level: the wide kernel's best stop lies at a nearly constant share of the
   /// noise (0.73-0.80 on the corpus) except under weak noise, where the shape's own smoothing soon adds as
