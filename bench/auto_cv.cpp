@@ -9,6 +9,7 @@
 //                                                pure test models, with rules fitted on all the others
 //                    [--timing-runs K]           the cost column times each side K times (default 3) and
 //                                                takes the fastest
+//                    [--only MODEL]              the table's rows of one model only (the fit is the same)
 //
 // GRID.csv are outputs of scanmesh_auto_grid (quality, displacement, creases and turned faces at
 // checkpoint iterations, for the candidate settings the rules choose between). Replaying the rules on
@@ -321,16 +322,21 @@ std::string fmt2(double v) {
 
 int main(int argc, char** argv) {
   if (argc < 3 || (std::strcmp(argv[1], "fit") != 0 && std::strcmp(argv[1], "table") != 0)) {
-    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... | table DATA_DIR GRID.csv... [--timing-runs K]\n");
+    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL]\n");
     return 2;
   }
   const bool table = std::strcmp(argv[1], "table") == 0;
   const std::filesystem::path data = table ? argv[2] : "";
   std::vector<std::string> files;
   int timing_runs = 3;  // the cost column: fastest of this many runs of --auto and of the plain run
+  std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
       timing_runs = std::max(1, std::atoi(argv[++i]));
+      continue;
+    }
+    if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
+      only = argv[++i];
       continue;
     }
     files.emplace_back(argv[i]);
@@ -387,6 +393,7 @@ int main(int argc, char** argv) {
   std::vector<double> ratios;
   int rows = 0, beat = 0, bad = 0, flip_bad = 0;
   for (const auto& model : bench::corpus_models(data)) {
+    if (!only.empty() && model.name != only) continue;
     const AutoRules rules = fold.count(model.group) ? fold[model.group] : f.cands[all].rules;
     for (const auto& pair : bench::load_pairs(model)) {
       long nf = 0, df = 0, af = 0;

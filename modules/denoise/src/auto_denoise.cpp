@@ -104,10 +104,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // t, the run goes on to 2t; if its displacement grew by less than rules.plateau_growth of itself
   // meanwhile, the surface has levelled off (flat and developable parts keep improving while nothing more
   // moves) and the run goes on without a target
-  // (`levelled_at` = t); otherwise it returns iteration t. The probe is not asked after the target.
+  // (`levelled_at` = t); otherwise it returns iteration t. The probe is not asked after the target, but
+  // `ends_at_target` is, before looking on, with what the run keeps at the target: true ends the run there
+  // (a mesh the probe would call smooth need not run on).
   int levelled_at = 0;
   std::vector<Vec3> at_target_positions;  // what the levelled run kept at its target
-  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling) {
+  using TargetFn = std::function<bool(const std::vector<Vec3>&)>;
+  auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
+                         const TargetFn& ends_at_target = {}) {
     const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
     const double target = opt.target_displacement * edge;
     bool target_on = target > 0.0, reached = false;
@@ -178,7 +182,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           const bool falling = track && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
           if (!falling) {
             reached = true;
-            if (!plateau) return false;
+            if (!plateau || (ends_at_target && ends_at_target(accepted))) return false;
             target_it = it;
             at_target = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
             return true;
@@ -308,7 +312,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // taking it. Not on large ones, where the copy (~80 bytes a face, alive through the whole run) would
   // raise the peak (810k faces: 457 -> 523 MB) for a build that costs them a few percent.
   cache.keep_topology(mesh.num_faces() <= 100000);
-  auto [rep, verdict] = checked_run(trial, sharp, probe, true);
+  // Reached the target before the probe: decided there, on what the run keeps (as after a run that ends
+  // at its target); a smooth shape ends the run.
+  auto smooth_at_target = [&](const std::vector<Vec3>& kept) {
+    if (!decide || creases >= 0.0) return false;
+    creases = soft_crease_share(kept, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+    return creases > crease_limit;
+  };
+  auto [rep, verdict] = checked_run(trial, sharp, probe, true, smooth_at_target);
   cache.keep_topology(false);
   if (decide && creases < 0.0)  // reached its target before the probe: judged at the target
     creases = soft_crease_share(levelled_at > 0 ? at_target_positions : trial.positions, mesh, topo, rules.soft_crease_min_deg,
