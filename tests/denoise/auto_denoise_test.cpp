@@ -129,6 +129,8 @@ TEST(AutoDenoise, AMachinedPartWhoseDisplacementLevelsOffRunsPastTheTarget) {
   EXPECT_EQ(b.run.stop_reason, "target displacement");
   EXPECT_NE(a.run.stop_reason, "target displacement");
   EXPECT_NE(a.reason.find("levelled off"), std::string::npos) << a.reason;
+  EXPECT_EQ(a.levelled_at, b.run.iterations);  // the same run up to its target
+  EXPECT_EQ(b.levelled_at, 0);
   EXPECT_GT(a.run.iterations, 2 * b.run.iterations);
   EXPECT_LT(evaluate(with, &clean).msae_deg, evaluate(without, &clean).msae_deg);
 }

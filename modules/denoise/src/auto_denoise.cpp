@@ -351,6 +351,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                     levelled_at > 0 ? "; the displacement levelled off after the target (no displacement stop)" : "");
     r.reason = line;
     mesh = std::move(trial);
+    r.levelled_at = levelled_at;
     r.run = rep;
     r.check = verdict;
     r.options = sharp;

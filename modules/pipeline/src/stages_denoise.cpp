@@ -66,6 +66,7 @@ struct DenoiseStage : Stage {
                         {"radius_factor", a.options.radius_factor},
                         {"iterations", static_cast<double>(a.run.iterations)},
                         {"probe_iterations", static_cast<double>(a.probe_iterations)},
+                        {"levelled_at", static_cast<double>(a.levelled_at)},
                         {"displacement", a.run.displacement},
                         {"folds", static_cast<double>(a.unfold.folds)},
                         {"folds_left", static_cast<double>(a.unfold.remaining)}};

@@ -97,6 +97,7 @@ struct AutoReport {
   DenoiseOptions options;      ///< what was run (explicit user values kept)
   DenoiseReport run;           ///< iterations, stop reason, timings of the final run
   int probe_iterations = 0;    ///< iterations spent on a probe that was discarded
+  int levelled_at = 0;         ///< the feature-keeping run's target iteration, when its displacement levelled off after it (0: did not)
   std::string check;           ///< outcome of the result check
   UnfoldReport unfold;         ///< folds found after the run and left after unfolding (step 6)
 };
