@@ -148,7 +148,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     const Checkpoint* at_2t = nullptr;
     for (const Checkpoint& c : *sharp) {
       if (c.it == target_it) at_t = &c;
-      if (c.it <= 2 * target_it && c.it <= r.max_iterations) at_2t = &c;
+      if (c.it <= plateau_end(target_it, r.plateau_span) && c.it <= r.max_iterations) at_2t = &c;
     }
     level = at_t && at_2t && at_2t->ndisp - at_t->ndisp < r.plateau_growth * at_t->ndisp;
   }
@@ -181,9 +181,11 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                     for (double to_level : {0.0, 0.5, 0.75, 1.0})
                     for (double slack : {1.0, 0.002})
                       for (double fall : {0.0, 0.5, 0.7})
-                      for (double plateau : {0.0, 0.01, 0.015, 0.02, 0.025}) {
+                      for (double plateau : {0.0, 0.01, 0.015, 0.02, 0.025})
+                      for (double span : {2.0, 1.5}) {
                       Candidate c;
                       AutoRules& r = c.rules;
+                      r.plateau_span = span;
                       r.plateau_growth = plateau;
                       r.crease_fall = fall;
                       r.impulsive_share = imp;
@@ -301,9 +303,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way; levelled below +%.3f) | turned slack %g\n",
+              "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.plateau_growth, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {

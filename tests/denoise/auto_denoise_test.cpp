@@ -121,6 +121,7 @@ TEST(AutoDenoise, AMachinedPartWhoseDisplacementLevelsOffRunsPastTheTarget) {
   AutoRules on, off;
   on.clear_sharp_share = off.clear_sharp_share = 0.0;  // this rule alone
   on.plateau_growth = 0.02;
+  on.plateau_span = 2.0;  // looks on to twice the target's iterations
   off.plateau_growth = 0.0;
   const AutoReport a = denoise_auto(with, {}, {}, on);
   const AutoReport b = denoise_auto(without, {}, {}, off);
@@ -148,6 +149,7 @@ TEST(AutoDenoise, ARunThatKeepsMovingReturnsItsTargetIteration) {
   AutoRules on, off;
   on.clear_sharp_share = off.clear_sharp_share = 0.0;
   on.plateau_growth = 0.02;
+  on.plateau_span = 2.0;  // looks on to twice the target's iterations
   off.plateau_growth = 0.0;
   const AutoReport a = denoise_auto(with, given, {"sigma_s"}, on);
   const AutoReport b = denoise_auto(without, given, {"sigma_s"}, off);

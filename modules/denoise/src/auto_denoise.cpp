@@ -101,7 +101,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // (below rules.crease_fall x their share at half the iterations): the filter is still taking noise out.
   //
   // With `while_falling` (the feature-keeping run) the plateau rule applies too: at the target, at iteration
-  // t, the run goes on to 2t; if its displacement grew by less than rules.plateau_growth of itself
+  // t, the run goes on to rules.plateau_span x t; if its displacement grew by less than rules.plateau_growth of itself
   // meanwhile, the surface has levelled off (flat and developable parts keep improving while nothing more
   // moves) and the run goes on without a target
   // (`levelled_at` = t); otherwise it returns iteration t. The probe is not asked after the target, but
@@ -128,7 +128,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
     const bool plateau = while_falling && target_on && rules.plateau_growth > 0.0;
     std::vector<double> moved;  // normal displacement by iteration (index 0: the input, 0)
-    int target_it = 0;          // where the target was reached, while the plateau rule looks on to 2 x target_it
+    int target_it = 0;          // where the target was reached, while the plateau rule looks on (plateau_end)
     bool revert = false;
     struct Snapshot {
       std::vector<Vec3> accepted;
@@ -169,7 +169,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           moved[static_cast<std::size_t>(it)] = d;
         }
         if (target_it > 0) {  // the plateau rule looks on from the target
-          if (it < 2 * target_it) return true;
+          if (it < plateau_end(target_it, rules.plateau_span)) return true;
           if (levelled(it)) {
             levelled_at = target_it;
             target_on = false;
@@ -194,7 +194,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       if (next == Probe::no_target) target_on = false;
       return next != Probe::stop;
     }, &cache);
-    // The run ended (iteration cap, result check) before 2 x target_it: decided on what it reached.
+    // The run ended (iteration cap, result check) before plateau_end: decided on what it reached.
     if (target_it > 0 && target_on && !revert) {
       const int last = static_cast<int>(moved.size()) - 1;
       if (last > target_it && levelled(last)) levelled_at = target_it;

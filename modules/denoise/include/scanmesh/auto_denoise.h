@@ -10,7 +10,7 @@
 //    still full of soft creases (20-45 degrees; the features of machined parts are sharper), they are
 //    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel.
 //    Either run stops by the discrepancy principle, once the vertices have moved about as far as the noise
-//    displaced them. The feature-keeping run then looks on to twice its iterations: if the displacement
+//    displaced them. The feature-keeping run then looks on (to 1.5-2x its iterations): if the displacement
 //    has levelled off meanwhile (flat and developable faces keep improving while nothing more moves), it
 //    runs all iterations, else it returns the target's iteration. It does not stop while its soft
 //    creases are still falling fast (less than half of what they were at half the iterations): the
@@ -22,6 +22,7 @@
 //    surface than before.
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
 // tuning corpus (bench/auto_cv.cpp, README "Choosing parameters automatically").
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -62,10 +63,12 @@ struct AutoRules {
   /// their value at half the iterations (the filter is still taking noise out, as on a part whose
   /// slivers keep creases long after the noise-sized displacement). 0 = off.
   double crease_fall = 0.5;
-  /// When the feature-keeping run reaches its target at iteration t, it goes on to 2t; if its displacement
+  /// When the feature-keeping run reaches its target at iteration t, it goes on to plateau_span x t; if its displacement
   /// grew by less than this share meanwhile, the surface has levelled off (flat and developable parts keep
   /// improving while nothing moves) and every iteration runs; otherwise iteration t is returned. 0 = off.
-  double plateau_growth = 0.02;
+  double plateau_growth = 0.015;
+  /// How far the plateau rule looks on: to this many times the target's iterations (rounded up).
+  double plateau_span = 1.5;
   double smooth_target = 0.5;     ///< the same for the wide-kernel run...
   /// ...plus this times the noise level: the wide kernel's best stop lies at a nearly constant share of the
   /// noise (0.73-0.80 on the corpus) except under weak noise, where the shape's own smoothing soon adds as
@@ -86,6 +89,11 @@ struct AutoRules {
 };
 
 /// What --auto measured and decided (printed by the command line, in the sidecar and the report).
+/// The iteration up to which the plateau rule looks on from a target reached at `target_it`.
+inline int plateau_end(int target_it, double span) {
+  return target_it + static_cast<int>(std::ceil((span - 1.0) * target_it - 1e-9));
+}
+
 struct AutoReport {
   double noise_level = 0.0;    ///< robust noise estimate / mean edge length
   double noise = 0.0;          ///< the same in mesh units (the discrepancy targets are multiples of it)
