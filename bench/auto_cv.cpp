@@ -140,17 +140,17 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     creases = e->s20 - e->s45;
     decided_smooth = creases > limit;
   }
-  // The plateau rule: at its target (iteration t) the run looks on to 2t; if the displacement grew by less
-  // than r.plateau_growth of itself meanwhile, the surface has levelled off and every iteration runs.
+  // The plateau rule: at its target (iteration t) the run looks on to plateau_end(t); if the displacement grew
+  // by less than r.plateau_growth of itself meanwhile, the surface has levelled off and every iteration runs.
   bool level = false;
   if (!decided_smooth && !clear && target_it > 0 && r.plateau_growth > 0.0) {
     const Checkpoint* at_t = nullptr;
-    const Checkpoint* at_2t = nullptr;
+    const Checkpoint* at_end = nullptr;
     for (const Checkpoint& c : *sharp) {
       if (c.it == target_it) at_t = &c;
-      if (c.it <= plateau_end(target_it, r.plateau_span) && c.it <= r.max_iterations) at_2t = &c;
+      if (c.it <= plateau_end(target_it, r.plateau_span) && c.it <= r.max_iterations) at_end = &c;
     }
-    level = at_t && at_2t && at_2t->ndisp - at_t->ndisp < r.plateau_growth * at_t->ndisp;
+    level = at_t && at_end && at_end->ndisp - at_t->ndisp < r.plateau_growth * at_t->ndisp;
   }
   if (!decided_smooth && (clear || level) && target > 0.0)
     e = walk(*sharp, p, r, 0.0, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);

@@ -100,15 +100,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // With `while_falling`, the target does not end the run while the soft creases are still falling fast
   // (below rules.crease_fall x their share at half the iterations): the filter is still taking noise out.
   //
-  // With `while_falling` (the feature-keeping run) the plateau rule applies too: at the target, at iteration
-  // t, the run goes on to rules.plateau_span x t; if its displacement grew by less than rules.plateau_growth of itself
-  // meanwhile, the surface has levelled off (flat and developable parts keep improving while nothing more
-  // moves) and the run goes on without a target
-  // (`levelled_at` = t); otherwise it returns iteration t. The probe is not asked after the target, but
-  // `ends_at_target` is, before looking on, with what the run keeps at the target: true ends the run there
-  // (a mesh the probe would call smooth need not run on).
+  // With `while_falling` (the feature-keeping run) the plateau rule applies too: reaching the target at
+  // iteration t, the run looks on to plateau_end(t); if its displacement grew by less than
+  // rules.plateau_growth of itself meanwhile, the surface has levelled off (flat and developable parts keep
+  // improving while nothing more moves) and the run goes on without a target (`levelled_at` = t);
+  // otherwise it returns iteration t. The probe is not asked after the target, but `ends_at_target` is,
+  // before looking on, with what the run keeps at the target: true ends the run there (a mesh the probe
+  // would call smooth need not run on).
   int levelled_at = 0;
-  std::vector<Vec3> at_target_positions;  // what the levelled run kept at its target
   using TargetFn = std::function<bool(const std::vector<Vec3>&)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
@@ -200,7 +199,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       if (last > target_it && levelled(last)) levelled_at = target_it;
       else revert = true;
     }
-    if (levelled_at > 0) at_target_positions = std::move(at_target.accepted);
     if (revert) {
       accepted = std::move(at_target.accepted);
       last_pass = at_target.last_pass;
@@ -321,9 +319,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   };
   auto [rep, verdict] = checked_run(trial, sharp, probe, true, smooth_at_target);
   cache.keep_topology(false);
-  if (decide && creases < 0.0)  // reached its target before the probe: judged at the target
-    creases = soft_crease_share(levelled_at > 0 ? at_target_positions : trial.positions, mesh, topo, rules.soft_crease_min_deg,
-                                rules.soft_crease_max_deg);
+  if (decide && creases < 0.0)  // ended before the probe (and not by the target, which smooth_at_target judged)
+    creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
   r.crease_share = creases;
   if (decide && creases > crease_limit) {
     r.mode = "smooth";

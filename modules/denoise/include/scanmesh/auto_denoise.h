@@ -88,12 +88,12 @@ struct AutoRules {
   int check_patience = 10;
 };
 
-/// What --auto measured and decided (printed by the command line, in the sidecar and the report).
 /// The iteration up to which the plateau rule looks on from a target reached at `target_it`.
 inline int plateau_end(int target_it, double span) {
   return target_it + static_cast<int>(std::ceil((span - 1.0) * target_it - 1e-9));
 }
 
+/// What --auto measured and decided (printed by the command line, in the sidecar and the report).
 struct AutoReport {
   double noise_level = 0.0;    ///< robust noise estimate / mean edge length
   double noise = 0.0;          ///< the same in mesh units (the discrepancy targets are multiples of it)
