@@ -5,7 +5,6 @@
 // usage: scanmesh_auto_corpus [DATA_DIR] [--only MODEL]
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "corpus.h"
@@ -16,23 +15,14 @@
 using namespace scanmesh;
 
 int main(int argc, char** argv) {
-  std::string data = "../shared/data", only;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else data = argv[i];
-  }
-  const auto models = bench::corpus_models(data);
-  if (models.empty()) {
-    std::printf("skipped: %s not found\n", data.c_str());
-    return 0;
-  }
+  const auto models = bench::corpus_models_from_args(argc, argv);
+  if (!models) return 0;
   std::printf("model,variant,noisy_msae,noisy_flips,default_msae,default_flips,auto_msae,auto_flips,mode,iterations,"
               "noisy_slivers,default_slivers,auto_slivers,bilaplacian_msae,bilaplacian_flips\n");
   // Slivers: faces whose circumradius exceeds 3x their shortest edge (equilateral: 0.577).
   auto slivers = [](const MeshMetrics& m) { return std::count_if(m.face_quality.begin(), m.face_quality.end(), [](double q) { return q > 3.0; }); };
   int wins = 0, total = 0, worse = 0;
-  for (const auto& model : models) {
-    if (!only.empty() && model.name != only) continue;
+  for (const auto& model : *models) {
     for (const auto& pair : bench::load_pairs(model)) {
       const MeshMetrics noisy = evaluate(pair.noisy, &pair.clean);
       Mesh d = pair.noisy;

@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -73,16 +72,8 @@ Features measure(const Mesh& noisy, const std::vector<Vec3>& pos, const Topology
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string data = "../shared/data", only;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else data = argv[i];
-  }
-  const auto models = bench::corpus_models(data);
-  if (models.empty()) {
-    std::printf("skipped: %s not found\n", data.c_str());
-    return 0;
-  }
+  const auto models = bench::corpus_models_from_args(argc, argv);
+  if (!models) return 0;
   const std::vector<int> checkpoints = {1, 2, 3, 4, 5, 6, 8, 10, 12, 14, 17, 20, 25, 30, 40, 50, 60, 80, 100, 130, 160, 200};
   struct Candidate {
     double sigma, lambda, radius;
@@ -91,8 +82,7 @@ int main(int argc, char** argv) {
   const std::vector<Candidate> candidates = {{0.7, 0.2, 3.0, 200}, {0.7, 0.2, 2.0, 200}, {1.0, 0.3, 3.0, 60}, {1.5, 0.3, 3.0, 40},
                                              {2.0, 0.2, 3.0, 40}};
   std::printf("model,variant,kind,faces,noisy_msae,level,noise,sigma,lambda,radius,it,msae,flips,ndisp,neighbour,curvature\n");
-  for (const auto& model : models) {
-    if (!only.empty() && model.name != only) continue;
+  for (const auto& model : *models) {
     for (const auto& pair : bench::load_pairs(model)) {
       const auto t0 = std::chrono::steady_clock::now();
       FaceGeometry cg;

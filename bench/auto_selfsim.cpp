@@ -6,7 +6,6 @@
 // usage: scanmesh_auto_selfsim [DATA_DIR] [--only MODEL]
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "corpus.h"
@@ -18,18 +17,9 @@
 using namespace scanmesh;
 
 int main(int argc, char** argv) {
-  std::string data = "../shared/data", only;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else data = argv[i];
-  }
-  const auto models = bench::corpus_models(data);
-  if (models.empty()) {
-    std::printf("skipped: %s not found\n", data.c_str());
-    return 0;
-  }
-  for (const auto& model : models) {
-    if (!only.empty() && model.name != only) continue;
+  const auto models = bench::corpus_models_from_args(argc, argv);
+  if (!models) return 0;
+  for (const auto& model : *models) {
     if (model.name == "dragon-202k") continue;
     for (const auto& pair : bench::load_pairs(model)) {
       if (pair.variant.find("impulsive") != std::string::npos) continue;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdint>
+#include <cstring>
 
 #include "helpers.h"
 #include "scanmesh/mesh_io.h"
@@ -161,6 +162,22 @@ std::vector<Pair> load_pairs(const Model& model) {
     pairs.push_back(std::move(p));
   }
   return pairs;
+}
+
+std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv) {
+  std::filesystem::path data = "../shared/data";
+  std::string only;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else data = argv[i];
+  }
+  std::vector<Model> models = corpus_models(data);
+  if (models.empty()) {
+    std::printf("skipped: %s not found\n", data.c_str());
+    return std::nullopt;
+  }
+  if (!only.empty()) models.erase(std::remove_if(models.begin(), models.end(), [&](const Model& m) { return m.name != only; }), models.end());
+  return models;
 }
 
 }  // namespace scanmesh::bench

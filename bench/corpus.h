@@ -4,6 +4,7 @@
 // `scanmesh noise`), plus the real noisy halves of pairs/. Benches that fit or check --auto share it, so
 // every one of them sees the same pairs, grouped by model for leave-one-model-out cross-validation.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,10 @@ const std::vector<Variant>& corpus_variants();
 
 /// The models found under `data` (../shared/data); empty if the folder is absent.
 std::vector<Model> corpus_models(const std::filesystem::path& data);
+/// The models a corpus bench called as `NAME [DATA_DIR] [--only MODEL]` works on (default ../shared/data;
+/// with --only, that model alone). Nothing, after printing "skipped: ... not found", when the folder is
+/// absent, so the bench ends cleanly without the shared data.
+std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv);
 
 /// Loads the pairs of one model: the given pair (if any) and every variant of corpus_variants(), seeded by
 /// the model name and the variant so the corpus is the same on every machine.
