@@ -371,20 +371,20 @@ int main(int argc, char** argv) {
   const auto pairs = load_grids(files);
   Fit f = prepare(pairs);
   f.peer_objective = peer_objective;
-  // The peer's scores, where the corpus is at hand: the fit then also counts the pairs where --auto beats it.
-  if (!data.empty() && std::filesystem::is_directory(data)) {
-    std::map<std::string, std::size_t> index;
-    for (std::size_t i = 0; i < f.keys.size(); ++i) index[f.keys[i]] = i;
+  // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
+  // the pairs where --auto beats it, and the table shows them.
+  std::map<std::string, std::pair<double, long>> peer;
+  if (!data.empty() && std::filesystem::is_directory(data))
     for (const auto& model : bench::corpus_models(data))
       for (const auto& pair : bench::load_pairs(model)) {
-        const auto it = index.find(pair.model + "|" + pair.variant);
-        if (it == index.end()) continue;
         Mesh b = pair.noisy;
         bench::bilaplacian_smooth(b, kPeerIterations);
         long flips = 0;
-        f.peer[it->second] = angle_error(b, pair.clean, &flips);
+        const double msae = angle_error(b, pair.clean, &flips);
+        peer[pair.model + "|" + pair.variant] = {msae, flips};
       }
-  }
+  for (std::size_t i = 0; i < f.keys.size(); ++i)
+    if (const auto it = peer.find(f.keys[i]); it != peer.end()) f.peer[i] = it->second.first;
   std::set<std::string> models(f.model_of.begin(), f.model_of.end());
   std::printf("%zu pairs of %zu models with complete curves; %zu rule candidates\n\n", f.keys.size(), models.size(), f.cands.size());
   const std::size_t all = best_candidate(f, "");
@@ -456,10 +456,7 @@ int main(int argc, char** argv) {
       }
       t_auto += seconds_auto;
       const double dm = angle_error(plain, pair.clean, &df), am = angle_error(automatic, pair.clean, &af);
-      Mesh peer = pair.noisy;
-      bench::bilaplacian_smooth(peer, kPeerIterations);
-      long pf = 0;
-      const double pm = angle_error(peer, pair.clean, &pf);
+      const auto [pm, pf] = peer.at(pair.model + "|" + pair.variant);
       // Cost against a plain run with the options and iteration count --auto ended with.
       double ratio = 0.0;
       if (a.run.iterations > 0) {
