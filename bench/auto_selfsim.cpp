@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
       Mesh t = pair.noisy;
       int best_it = 0;
       double best = evaluate(pair.noisy, &pair.clean).msae_deg;
+      Mesh x = pair.noisy;  // the iteration's positions on the pair's faces, for evaluate()
       denoise(t, o, {}, [&](int it, const std::vector<Vec3>& pos) {
-        Mesh x = pair.noisy;
         x.positions = pos;
         const double e = evaluate(x, &pair.clean).msae_deg;
         if (e < best) best = e, best_it = it;
@@ -56,8 +56,7 @@ int main(int argc, char** argv) {
       double sim_best = evaluate(s, &d).msae_deg;
       Mesh s2 = s;
       denoise(s2, o, {}, [&](int it, const std::vector<Vec3>& pos) {
-        Mesh x = s;
-        x.positions = pos;
+        x.positions = pos;  // (same faces)
         const double e = evaluate(x, &d).msae_deg;
         if (e < sim_best) sim_best = e, sim_it = it;
         return it < sim_it + 4;  // four iterations past the best so far: the curve has turned
