@@ -162,7 +162,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   if (!decided_smooth && (clear || level) && target > 0.0)
     e = walk(*sharp, p, r, 0.0, r.max_iterations, [](const Checkpoint&) { return true; }, stopped);
   if (decided_smooth) {
-    const Checkpoint* s = walk(*smooth, p, r, (r.smooth_target + r.smooth_target_per_level * p.level) * noise, r.max_iterations,
+    const Checkpoint* s = walk(*smooth, p, r, smooth_target_ratio(r, p.level) * noise, r.max_iterations,
                                [](const Checkpoint&) { return true; }, stopped);
     return s ? Outcome{s->msae, s->flips, "smooth", s->it} : Outcome{p.noisy_msae, p.noisy_flips, "smooth", 0};
   }
@@ -178,7 +178,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
     for (double oj : {4.0, 6.0})
       for (int ni : {50, 100})
         for (int sharp = 0; sharp < 1; ++sharp)
-          for (int probe : {10, 14})
+          for (int probe : {14})  // (10 was offered until 2026-12-04: no fold took it, nor a slack of 1.0)
             for (double crease : {0.01, 0.015, 0.02, 0.026, 0.035})
               for (double slope : {0.0, 0.05, 0.1})
                 for (double clear : {0.0})
@@ -186,10 +186,13 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                 for (double ts : {0.8, 1.0, 1.5, 0.0})
                   for (double to : {0.45, 0.5, 0.55, 0.6})
                     for (double to_level : {0.0, 0.5, 0.75, 1.0})
-                    for (double slack : {1.0, 0.002})
+                    for (double slack : {0.002})
+                    for (double floor : {0.0, 0.7, 0.75, 0.8})
+                    for (double floor_level : {0.1, 0.15, 0.2})
                       for (double fall : {0.0, 0.5, 0.7})
                       for (double plateau : {0.0, 0.01, 0.015, 0.02, 0.025})
                       for (double span : {2.0, 1.5}) {
+                      if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       Candidate c;
                       AutoRules& r = c.rules;
                       r.plateau_span = span;
@@ -210,6 +213,8 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.sharp_target = ts;
                       r.smooth_target = to;
                       r.smooth_target_per_level = to_level;
+                      r.smooth_target_floor = floor;
+                      r.smooth_floor_level = floor_level;
                       r.turned_slack = slack;  // 1.0: no check (every face may turn)
                       out.push_back(c);
                     }
@@ -315,9 +320,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g\n",
+              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {

@@ -293,6 +293,7 @@ TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
   now.crease_share_per_level = flat.crease_share_per_level = 0.0;
   flat.smooth_target = 0.6;  // the rule before the noise-level term
   flat.smooth_target_per_level = 0.0;
+  flat.smooth_target_floor = 0.0;
   for (double level : {0.4, 0.5, 0.6}) {
     Mesh a = noisy(clean, level), b = a;
     const AutoReport ra = denoise_auto(a, {}, {}, now);
@@ -300,6 +301,33 @@ TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
     ASSERT_EQ(ra.mode, "smooth");
     EXPECT_GT(ra.run.iterations, rb.run.iterations) << "level " << level;
     EXPECT_LT(evaluate(a, &clean).msae_deg, 0.9 * evaluate(b, &clean).msae_deg) << "level " << level;
+  }
+}
+
+// Above weak noise the wide kernel's stop has a floor (a constant share of the noise), which the share
+// that grows with the level reaches only under strong noise. On the bumpy sphere under moderate noise the
+// run with the floor goes on to it and ends closer to the clean surface than the run without it.
+TEST(AutoDenoise, TheWideKernelRunsToItsFloorUnderModerateNoise) {
+  Mesh clean = test::make_sphere(5);
+  for (auto& p : clean.positions) {
+    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
+    p *= 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f);
+  }
+  AutoRules with, without;
+  with.crease_share = without.crease_share = -1.0;  // every mesh is taken as smooth
+  with.crease_share_per_level = without.crease_share_per_level = 0.0;
+  without.smooth_target_floor = 0.0;
+  for (double level : {0.3, 0.4}) {
+    Mesh a = noisy(clean, level), b = a;
+    const AutoReport ra = denoise_auto(a, {}, {}, with);
+    const AutoReport rb = denoise_auto(b, {}, {}, without);
+    ASSERT_EQ(ra.mode, "smooth");
+    ASSERT_GE(ra.noise_level, with.smooth_floor_level) << "level " << level;
+    EXPECT_LT(smooth_target_ratio(without, ra.noise_level), with.smooth_target_floor) << "level " << level;
+    EXPECT_EQ(ra.run.stop_reason, "target displacement") << "level " << level;
+    EXPECT_GE(ra.run.displacement, with.smooth_target_floor * ra.noise) << "level " << level;
+    EXPECT_GT(ra.run.iterations, rb.run.iterations) << "level " << level;
+    EXPECT_LT(evaluate(a, &clean).msae_deg, evaluate(b, &clean).msae_deg) << "level " << level;
   }
 }
 

@@ -290,7 +290,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   sharp.iterations = smooth.iterations = cap;
   if (!is_given("target_displacement") && !is_given("iterations")) {
     sharp.target_displacement = rules.sharp_target * r.noise / edge;
-    smooth.target_displacement = (rules.smooth_target + rules.smooth_target_per_level * na.level) * r.noise / edge;
+    smooth.target_displacement = smooth_target_ratio(rules, na.level) * r.noise / edge;
   }
   const bool decide = !is_given("sigma_s");
   Mesh trial = mesh;

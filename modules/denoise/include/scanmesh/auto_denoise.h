@@ -22,6 +22,7 @@
 //    surface than before.
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
 // tuning corpus (bench/auto_cv.cpp, README "Choosing parameters automatically").
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -69,11 +70,15 @@ struct AutoRules {
   double plateau_growth = 0.015;
   /// How far the plateau rule looks on: to this many times the target's iterations (rounded up).
   double plateau_span = 1.5;
-  double smooth_target = 0.5;     ///< the same for the wide-kernel run...
-  /// ...plus this times the noise level: the wide kernel's best stop lies at a nearly constant share of the
-  /// noise (0.73-0.80 on the corpus) except under weak noise, where the shape's own smoothing soon adds as
-  /// much displacement as the noise removed, so the stop comes earlier there.
+  double smooth_target = 0.45;    ///< the same for the wide-kernel run...
+  /// ...plus this times the noise level: under weak noise the shape's own smoothing soon adds as much
+  /// displacement as the noise removed, so the wide kernel's best stop comes early there.
   double smooth_target_per_level = 0.75;
+  /// From noise level smooth_floor_level up, the wide-kernel target is at least this share of the noise
+  /// (0 = off): above weak noise its best stop sits near a constant share (0.73-0.83 on the corpus's
+  /// organic pairs), which the level term alone reaches only under strong noise.
+  double smooth_target_floor = 0.75;
+  double smooth_floor_level = 0.15;  ///< noise level (x mean edge) from which smooth_target_floor applies
   int max_iterations = 200;
   double radius_factor = 3.0;
   /// Closed meshes: relative volume change at which the run stops. Off: rounding a noisy part's edges
@@ -91,6 +96,12 @@ struct AutoRules {
 /// The iteration up to which the plateau rule looks on from a target reached at `target_it`.
 inline int plateau_end(int target_it, double span) {
   return target_it + static_cast<int>(std::ceil((span - 1.0) * target_it - 1e-9));
+}
+
+/// The wide-kernel run's discrepancy target, as a multiple of the noise estimate, at noise level `level`.
+inline double smooth_target_ratio(const AutoRules& r, double level) {
+  const double t = r.smooth_target + r.smooth_target_per_level * level;
+  return r.smooth_target_floor > 0.0 && level >= r.smooth_floor_level ? std::max(t, r.smooth_target_floor) : t;
 }
 
 /// What --auto measured and decided (printed by the command line, in the sidecar and the report).
