@@ -4,6 +4,7 @@
 //                                                model, the constants fitted without it
 //                    [--data DATA_DIR]           also score the peer (bi-Laplacian smoothing, peers.h) on the
 //                                                corpus and report how often the held-back rules beat it
+//                    [--smooth-sigmas a,b,..]    wide kernels offered to the fit (default: the shipped one)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -170,8 +171,10 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 }
 
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
-std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas) {
+std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas,
+                                  const std::vector<double>& smooth_sigmas) {
   std::vector<Candidate> out;
+  for (double smooth_sigma : smooth_sigmas)
   for (double sharp_lambda : sharp_lambdas)
   for (double smooth_lambda : smooth_lambdas)
   for (double imp : {0.011})
@@ -203,6 +206,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.impulsive_iterations = ni;
                       r.sharp_sigma = sharp == 0 ? 0.7 : 0.55;
                       r.sharp_lambda = sharp == 0 ? sharp_lambda : 0.3;
+                      r.smooth_sigma = smooth_sigma;
                       r.smooth_lambda = smooth_lambda;
                       r.probe_iterations = probe;
                       r.crease_share = crease;
@@ -233,7 +237,7 @@ struct Fit {
   std::vector<int> flips;
 };
 
-Fit prepare(const std::map<std::string, PairData>& pairs) {
+Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas) {
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -254,7 +258,7 @@ Fit prepare(const std::map<std::string, PairData>& pairs) {
   }
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
-  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()});
+  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas);
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -341,7 +345,7 @@ std::string fmt2(double v) {
 
 int main(int argc, char** argv) {
   if (argc < 3 || (std::strcmp(argv[1], "fit") != 0 && std::strcmp(argv[1], "table") != 0)) {
-    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL]\n");
+    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] [--smooth-sigmas a,b] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL]\n");
     return 2;
   }
   const bool table = std::strcmp(argv[1], "table") == 0;
@@ -349,6 +353,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   int timing_runs = 3;  // the cost column: fastest of this many runs of --auto and of the plain run
   bool peer_objective = false;
+  std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels offered (grids must hold their curves)
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -363,6 +368,12 @@ int main(int argc, char** argv) {
       data = argv[++i];
       continue;
     }
+    if (!table && std::strcmp(argv[i], "--smooth-sigmas") == 0 && i + 1 < argc) {
+      smooth_sigmas.clear();
+      std::stringstream list(argv[++i]);
+      for (std::string v; std::getline(list, v, ',');) smooth_sigmas.push_back(std::atof(v.c_str()));
+      continue;
+    }
     if (std::strcmp(argv[i], "--peer-objective") == 0) {
       peer_objective = true;
       continue;
@@ -374,7 +385,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs);
+  Fit f = prepare(pairs, smooth_sigmas);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.
