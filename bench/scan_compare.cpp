@@ -74,8 +74,11 @@ int main(int argc, char** argv) {
     std::printf("| %-12s | %-22s | %7zu points | | | | %6.2f |\n", name.c_str(), "virtual scan (6 views)", scan.points.size(), t_scan);
     report(name.c_str(), "scanmesh mesh (gp3)", mesh, clean, scan, scale.spacing, t_mesh);
     const auto t2 = std::chrono::steady_clock::now();
-    denoise_auto(mesh, {});
-    report(name.c_str(), "+ denoise --auto", mesh, clean, scan, scale.spacing, t_mesh + since(t2));
+    const AutoReport decided = denoise_auto(mesh, {});
+    char label[64];
+    std::snprintf(label, sizeof label, "+ --auto (%s, %d its)", decided.mode.c_str(), decided.run.iterations);
+    std::fprintf(stderr, "%s: noise level %.3f, %s\n", name.c_str(), decided.noise_level, decided.reason.c_str());
+    report(name.c_str(), label, mesh, clean, scan, scale.spacing, t_mesh + since(t2));
     // The usual alternative on the same cloud and normals: screened Poisson (PCL), depth 9, trimmed at
     // 3 spacings from the points.
     const auto t3 = std::chrono::steady_clock::now();
