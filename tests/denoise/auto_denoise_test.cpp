@@ -278,16 +278,21 @@ TEST(AutoDenoise, IsIndependentOfTheThreadCount) {
   }
 }
 
-// The wide kernel's stop is a share of the noise that grows with the noise level: under strong noise the old
-// flat share stopped after two iterations with much of the noise left. The sphere is made bumpy (an organic
-// stand-in, about 28 edges per bump) and the smooth mode is forced, so only the stopping rule differs. (On a
-// coarser copy, 14 edges per bump, stopping earlier is better: the rule is fitted on the corpus, not a law.)
-TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
-  Mesh clean = test::make_sphere(5);
-  for (auto& p : clean.positions) {
+// A sphere made bumpy: an organic stand-in, about 28 edges per bump.
+static Mesh bumpy_sphere() {
+  Mesh m = test::make_sphere(5);
+  for (auto& p : m.positions) {
     const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
     p *= 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f);
   }
+  return m;
+}
+
+// The wide kernel's stop is a share of the noise that grows with the noise level: under strong noise the old
+// flat share stopped after two iterations with much of the noise left. On the bumpy sphere the smooth mode is
+// forced, so only the stopping rule differs. (On a coarser copy, 14 edges per bump, stopping earlier is better: the rule is fitted on the corpus, not a law.)
+TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
+  const Mesh clean = bumpy_sphere();
   AutoRules now, flat;
   now.crease_share = flat.crease_share = -1.0;  // every mesh is taken as smooth
   now.crease_share_per_level = flat.crease_share_per_level = 0.0;
@@ -308,11 +313,7 @@ TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
 // that grows with the level reaches only under strong noise. On the bumpy sphere under moderate noise the
 // run with the floor goes on to it and ends closer to the clean surface than the run without it.
 TEST(AutoDenoise, TheWideKernelRunsToItsFloorUnderModerateNoise) {
-  Mesh clean = test::make_sphere(5);
-  for (auto& p : clean.positions) {
-    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
-    p *= 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f);
-  }
+  const Mesh clean = bumpy_sphere();
   AutoRules with, without;
   with.crease_share = without.crease_share = -1.0;  // every mesh is taken as smooth
   with.crease_share_per_level = without.crease_share_per_level = 0.0;
