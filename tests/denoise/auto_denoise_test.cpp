@@ -290,7 +290,8 @@ static Mesh bumpy_sphere() {
 
 // The wide kernel's stop is a share of the noise that grows with the noise level: under strong noise the old
 // flat share stopped after two iterations with much of the noise left. On the bumpy sphere the smooth mode is
-// forced, so only the stopping rule differs. (On a coarser copy, 14 edges per bump, stopping earlier is better: the rule is fitted on the corpus, not a law.)
+// forced, so only the stopping rule differs. (On a coarser copy, 14 edges per bump, stopping earlier is
+// better: the rule is fitted on the corpus, not a law.)
 TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
   const Mesh clean = bumpy_sphere();
   AutoRules now, flat;
