@@ -187,7 +187,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                 for (double clear : {0.0})
               for (int stat : {2})
                 for (double ts : {0.8, 1.0, 1.5, 0.0})
-                  for (double to : {0.45, 0.5, 0.55, 0.6})
+                  for (double to : {0.4, 0.45, 0.5, 0.55, 0.6})
                     for (double to_level : {0.0, 0.5, 0.75, 1.0})
                     for (double slack : {0.002})
                     for (double floor : {0.0, 0.7, 0.75, 0.8})
