@@ -5,6 +5,8 @@
 //                    [--data DATA_DIR]           also score the peer (bi-Laplacian smoothing, peers.h) on the
 //                                                corpus and report how often the held-back rules beat it
 //                    [--smooth-sigmas a,b,..]    wide kernels offered to the fit (default: the shipped one)
+//                    [--sharp-lambdas a,b,..]    the feature-keeping run's fidelity weights offered (default:
+//                                                every one the grids hold curves for)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -237,7 +239,8 @@ struct Fit {
   std::vector<int> flips;
 };
 
-Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas) {
+Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas,
+            const std::vector<double>& only_sharp_lambdas) {
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -255,6 +258,12 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<doub
     std::set_intersection(sharp_lambdas.begin(), sharp_lambdas.end(), sh.begin(), sh.end(), std::inserter(a, a.end()));
     std::set_intersection(smooth_lambdas.begin(), smooth_lambdas.end(), sm.begin(), sm.end(), std::inserter(b, b.end()));
     if (!a.empty() && !b.empty()) sharp_lambdas = a, smooth_lambdas = b;  // a pair without them is dropped below
+  }
+  if (!only_sharp_lambdas.empty()) {
+    std::set<double> kept;
+    for (double l : only_sharp_lambdas)
+      if (sharp_lambdas.count(l)) kept.insert(l);
+    sharp_lambdas = kept;
   }
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
@@ -345,7 +354,7 @@ std::string fmt2(double v) {
 
 int main(int argc, char** argv) {
   if (argc < 3 || (std::strcmp(argv[1], "fit") != 0 && std::strcmp(argv[1], "table") != 0)) {
-    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] [--smooth-sigmas a,b] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL]\n");
+    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] [--smooth-sigmas a,b] [--sharp-lambdas a,b] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL]\n");
     return 2;
   }
   const bool table = std::strcmp(argv[1], "table") == 0;
@@ -354,6 +363,7 @@ int main(int argc, char** argv) {
   int timing_runs = 3;  // the cost column: fastest of this many runs of --auto and of the plain run
   bool peer_objective = false;
   std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels offered (grids must hold their curves)
+  std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights offered (empty: all the grids hold)
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -368,10 +378,11 @@ int main(int argc, char** argv) {
       data = argv[++i];
       continue;
     }
-    if (!table && std::strcmp(argv[i], "--smooth-sigmas") == 0 && i + 1 < argc) {
-      smooth_sigmas.clear();
+    if (!table && (std::strcmp(argv[i], "--smooth-sigmas") == 0 || std::strcmp(argv[i], "--sharp-lambdas") == 0) && i + 1 < argc) {
+      std::vector<double>& values = argv[i][3] == 'm' ? smooth_sigmas : sharp_lambdas;
+      values.clear();
       std::stringstream list(argv[++i]);
-      for (std::string v; std::getline(list, v, ',');) smooth_sigmas.push_back(std::atof(v.c_str()));
+      for (std::string v; std::getline(list, v, ',');) values.push_back(std::atof(v.c_str()));
       continue;
     }
     if (std::strcmp(argv[i], "--peer-objective") == 0) {
@@ -385,7 +396,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs, smooth_sigmas);
+  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.
