@@ -33,7 +33,6 @@
 #include <map>
 #include <iterator>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -378,11 +377,12 @@ int main(int argc, char** argv) {
       data = argv[++i];
       continue;
     }
-    if (!table && (std::strcmp(argv[i], "--smooth-sigmas") == 0 || std::strcmp(argv[i], "--sharp-lambdas") == 0) && i + 1 < argc) {
-      std::vector<double>& values = argv[i][3] == 'm' ? smooth_sigmas : sharp_lambdas;
-      values.clear();
-      std::stringstream list(argv[++i]);
-      for (std::string v; std::getline(list, v, ',');) values.push_back(std::atof(v.c_str()));
+    if (!table && std::strcmp(argv[i], "--smooth-sigmas") == 0 && i + 1 < argc) {
+      smooth_sigmas = bench::parse_list(argv[++i]);
+      continue;
+    }
+    if (!table && std::strcmp(argv[i], "--sharp-lambdas") == 0 && i + 1 < argc) {
+      sharp_lambdas = bench::parse_list(argv[++i]);
       continue;
     }
     if (std::strcmp(argv[i], "--peer-objective") == 0) {

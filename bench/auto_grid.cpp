@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <sstream>
 
 #include "corpus.h"
 #include "scanmesh/auto_denoise.h"
@@ -24,14 +23,6 @@
 using namespace scanmesh;
 
 namespace {
-
-std::vector<double> parse_list(const char* s) {
-  std::vector<double> v;
-  std::stringstream in(s);
-  std::string tok;
-  while (std::getline(in, tok, ',')) v.push_back(std::atof(tok.c_str()));
-  return v;
-}
 
 struct Quality {
   double msae = 0.0;
@@ -63,10 +54,10 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     else if (!std::strcmp(argv[i], "--skip") && i + 1 < argc) skip = argv[++i];
-    else if (!std::strcmp(argv[i], "--sigmas") && i + 1 < argc) sigmas = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = parse_list(argv[++i]);
-    else if (!std::strcmp(argv[i], "--outliers") && i + 1 < argc) outliers = parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--sigmas") && i + 1 < argc) sigmas = bench::parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--lambdas") && i + 1 < argc) lambdas = bench::parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--radii") && i + 1 < argc) radii = bench::parse_list(argv[++i]);
+    else if (!std::strcmp(argv[i], "--outliers") && i + 1 < argc) outliers = bench::parse_list(argv[++i]);
     else if (!std::strcmp(argv[i], "--sliver-guard") && i + 1 < argc) sliver_guard = std::atof(argv[++i]);
     else data = argv[i];
   }

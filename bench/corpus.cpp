@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <sstream>
 
 #include "helpers.h"
 #include "scanmesh/mesh_io.h"
@@ -162,6 +164,13 @@ std::vector<Pair> load_pairs(const Model& model) {
     pairs.push_back(std::move(p));
   }
   return pairs;
+}
+
+std::vector<double> parse_list(const char* s) {
+  std::vector<double> v;
+  std::stringstream in(s);
+  for (std::string tok; std::getline(in, tok, ',');) v.push_back(std::atof(tok.c_str()));
+  return v;
 }
 
 std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv) {

@@ -57,6 +57,9 @@ std::vector<Model> corpus_models(const std::filesystem::path& data);
 /// absent, so the bench ends cleanly without the shared data.
 std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv);
 
+/// The numbers of a command-line list "a,b,c".
+std::vector<double> parse_list(const char* s);
+
 /// Loads the pairs of one model: the given pair (if any) and every variant of corpus_variants(), seeded by
 /// the model name and the variant so the corpus is the same on every machine.
 std::vector<Pair> load_pairs(const Model& model);
