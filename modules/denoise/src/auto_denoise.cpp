@@ -16,15 +16,7 @@ namespace {
 // Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg]: soft creases.
 // Real features of machined parts are sharper; noise a feature-keeping filter locked in is not.
 double soft_crease_share(const FaceGeometry& g, const Topology& topo, double min_deg, double max_deg) {
-  const double lo = std::cos(min_deg * 3.14159265358979323846 / 180.0), hi = std::cos(max_deg * 3.14159265358979323846 / 180.0);
-  // (soft creases, manifold edges): counts, so any order gives the same
-  const Eigen::Vector2d n = ordered_sum(static_cast<long>(topo.edges.size()), Eigen::Vector2d(0, 0), [&](long e) {
-    if (topo.edge_faces.size(static_cast<std::size_t>(e)) != 2) return Eigen::Vector2d(0, 0);
-    const int* f = topo.edge_faces.begin(static_cast<std::size_t>(e));
-    const double c = g.normals[f[0]].dot(g.normals[f[1]]);
-    return Eigen::Vector2d(c < lo && c >= hi ? 1.0 : 0.0, 1.0);
-  });
-  return n[1] > 0 ? n[0] / n[1] : 0.0;
+  return bend_share(g, topo, min_deg, max_deg);
 }
 
 double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, const Topology& topo, double min_deg, double max_deg) {
@@ -40,6 +32,19 @@ double enclosed_volume(const std::vector<Vec3>& p, const std::vector<Face>& face
 }
 
 }  // namespace
+
+double bend_share(const FaceGeometry& g, const Topology& topo, double min_deg, double max_deg) {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  const double lo = min_deg < 0.0 ? 2.0 : std::cos(min_deg * kDeg), hi = std::cos(max_deg * kDeg);
+  // (edges bending so far, manifold edges): counts, so any order gives the same
+  const Eigen::Vector2d n = ordered_sum(static_cast<long>(topo.edges.size()), Eigen::Vector2d(0, 0), [&](long e) {
+    if (topo.edge_faces.size(static_cast<std::size_t>(e)) != 2) return Eigen::Vector2d(0, 0);
+    const int* f = topo.edge_faces.begin(static_cast<std::size_t>(e));
+    const double c = g.normals[f[0]].dot(g.normals[f[1]]);
+    return Eigen::Vector2d(c < lo && c >= hi ? 1.0 : 0.0, 1.0);
+  });
+  return n[1] > 0 ? n[0] / n[1] : 0.0;
+}
 
 double turned_area_share(const FaceGeometry& g, const std::vector<Vec3>& reference) {
   // (turned area, total area)
@@ -297,10 +302,28 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   double creases = -1.0;
   bool clear = false;
   const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
+  const bool flattening = rules.flat_growth_per_level > 0.0;
+  double flat_half = -1.0, flat = -1.0, bends = -1.0;  // at half the probe and at the probe
+  bool flattened = false;  // taken as smooth because its flat edges stopped growing
+  FaceGeometry probe_geometry;
   auto probe = [&](int it, const std::vector<Vec3>& pos) {
-    if (!decide || it != rules.probe_iterations) return Probe::go_on;
-    creases = soft_crease_share(pos, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+    if (!decide) return Probe::go_on;
+    if (flattening && it == rules.probe_iterations / 2 && it > 0) {
+      compute_face_geometry(pos, mesh.faces, probe_geometry, false);
+      flat_half = bend_share(probe_geometry, topo, -1.0, rules.flat_max_deg);
+    }
+    if (it != rules.probe_iterations) return Probe::go_on;
+    compute_face_geometry(pos, mesh.faces, probe_geometry, false);
+    creases = soft_crease_share(probe_geometry, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
     if (creases > crease_limit) return Probe::stop;  // smooth shape: this run ends here
+    if (flattening && flat_half >= 0.0) {
+      flat = bend_share(probe_geometry, topo, -1.0, rules.flat_max_deg);
+      bends = bend_share(probe_geometry, topo, rules.soft_crease_min_deg, 180.0);
+      const double strong = bend_share(probe_geometry, topo, rules.soft_crease_max_deg, 180.0);
+      flattened = flat < rules.flat_share_max && flat - flat_half < rules.flat_growth_per_level * na.level && bends > rules.flat_min_bends &&
+                  strong < rules.flat_max_strong;
+      if (flattened) return Probe::stop;
+    }
     // Clearly machined: flat faces keep improving long after the noise-sized displacement.
     clear = rules.clear_sharp_share > 0.0 && creases < rules.clear_sharp_share && !is_given("target_displacement");
     return clear ? Probe::no_target : Probe::go_on;
@@ -322,12 +345,20 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   if (decide && creases < 0.0)  // ended before the probe (and not by the target, which smooth_at_target judged)
     creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
   r.crease_share = creases;
-  if (decide && creases > crease_limit) {
+  r.flat_share = flat;
+  r.flat_share_half = flat_half;
+  if (decide && (creases > crease_limit || flattened)) {
     r.mode = "smooth";
-    std::snprintf(line, sizeof line,
-                  "smooth shape: after %d feature-keeping iterations %.1f%% of the edges are still soft creases (%.0f-%.0f deg; "
-                  "limit %.1f%%): noise the narrow kernel locked in",
-                  rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
+    if (flattened)
+      std::snprintf(line, sizeof line,
+                    "smooth shape: after %d feature-keeping iterations only %.0f%% of the edges are flat (within %.0f deg), "
+                    "%.1f points more than at %d: a curved surface the narrow kernel cuts into facets",
+                    rep.iterations, 100.0 * flat, rules.flat_max_deg, 100.0 * (flat - flat_half), rules.probe_iterations / 2);
+    else
+      std::snprintf(line, sizeof line,
+                    "smooth shape: after %d feature-keeping iterations %.1f%% of the edges are still soft creases (%.0f-%.0f deg; "
+                    "limit %.1f%%): noise the narrow kernel locked in",
+                    rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
     r.reason = line;
     r.probe_iterations = rep.iterations;
     auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false);

@@ -61,6 +61,8 @@ struct DenoiseStage : Stage {
                         {"exact_plane_fraction", a.exact_plane_fraction},
                         {"isolated_outlier_share", a.impulsive_share},
                         {"soft_crease_share", a.crease_share},
+                        {"flat_edge_share", a.flat_share},
+                        {"flat_edge_share_half_probe", a.flat_share_half},
                         {"sigma_s", a.options.sigma_s},
                         {"lambda", a.options.lambda},
                         {"radius_factor", a.options.radius_factor},

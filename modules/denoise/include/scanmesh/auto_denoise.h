@@ -9,6 +9,8 @@
 // 4. Otherwise a feature-keeping run starts (narrow kernel). If after `probe_iterations` its surface is
 //    still full of soft creases (20-45 degrees; the features of machined parts are sharper), they are
 //    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel.
+//    So is a mesh whose nearly flat edges stopped growing since half the probe while still few (the
+//    kernel has cut a curved surface into facets; a machined part's faces go on flattening).
 //    Either run stops by the discrepancy principle, once the vertices have moved about as far as the noise
 //    displaced them. The feature-keeping run then looks on (to 1.5-2x its iterations): if the displacement
 //    has levelled off meanwhile (flat and developable faces keep improving while nothing more moves), it
@@ -30,6 +32,7 @@
 #include "scanmesh/denoise.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/mesh.h"
+#include "scanmesh/topology.h"
 #include "scanmesh/unfold_faces.h"
 
 namespace scanmesh {
@@ -53,8 +56,22 @@ struct AutoRules {
   int probe_iterations = 14;      ///< feature-keeping iterations before the smooth/sharp decision
   double soft_crease_min_deg = 20.0;  ///< a soft crease: adjacent faces differ by more than this...
   double soft_crease_max_deg = 45.0;  ///< ...and at most this (real features of parts are sharper)
-  double crease_share = 0.015;        ///< share of soft creases at the probe above which the mesh is smooth...
+  double crease_share = 0.020;        ///< share of soft creases at the probe above which the mesh is smooth...
   double crease_share_per_level = 0.05;  ///< ...plus this times the noise level (strong noise leaves more)
+  /// Flattening (0 = off): at the probe, a feature-keeping run whose nearly flat edges (faces within
+  /// flat_max_deg of each other) are fewer than flat_share_max of the edges and grew since half the probe
+  /// by less than this x the noise level, while more than flat_min_bends of the edges bend by over
+  /// soft_crease_min_deg (a surface without any creases is left to the feature-keeping run, which
+  /// suits it), is on a curved surface: taken as smooth. The flat and developable faces of a
+  /// machined part go on flattening; a curved surface under the narrow kernel stops once its facets have
+  /// formed, however few soft creases they leave (dense organic meshes).
+  double flat_growth_per_level = 0.35;
+  double flat_share_max = 0.45;
+  double flat_min_bends = 0.001;
+  /// ...and fewer than this share bend by over soft_crease_max_deg (a part with curved faces between
+  /// sharp edges keeps its feature-keeping run). 1 = no limit.
+  double flat_max_strong = 0.04;
+  double flat_max_deg = 2.0;
   /// Below this share of soft creases at the first probe the part is clearly machined: no stopping rule,
   /// every iteration runs (flat faces keep improving long after the noise-sized displacement). 0 = off:
   /// the fit replaced it with plateau_growth (a share of creases depends on the mesh's resolution).
@@ -111,6 +128,8 @@ struct AutoReport {
   double exact_plane_fraction = 0.0;
   double impulsive_share = 0.0;
   double crease_share = -1.0;  ///< at the probe (-1 if no probe ran)
+  double flat_share = -1.0;    ///< nearly flat edges at the probe (-1 if not measured: rule off, or no probe ran)
+  double flat_share_half = -1.0;  ///< the same at half the probe
   std::string mode;            ///< "untouched", "impulsive", "sharp" or "smooth"
   std::string reason;          ///< one line saying why
   DenoiseOptions options;      ///< what was run (explicit user values kept)
@@ -120,6 +139,10 @@ struct AutoReport {
   std::string check;           ///< outcome of the result check
   UnfoldReport unfold;         ///< folds found after the run and left after unfolding (step 6)
 };
+
+/// Share of the manifold edges whose two faces' normals differ by an angle in (min_deg, max_deg]
+/// (min_deg < 0: [0, max_deg]). Soft creases are (20, 45]; nearly flat edges [0, 2].
+double bend_share(const FaceGeometry& geometry, const Topology& topology, double min_deg, double max_deg);
 
 /// What the result check measures: the share of the surface (by area) whose faces point against the
 /// reference normals (`prefiltered_normals(mesh, 3, 2, 4)` of the input). Slivers, whose normals are
