@@ -7,6 +7,9 @@
 //                    [--smooth-sigmas a,b,..]    wide kernels offered to the fit (default: the shipped one)
 //                    [--sharp-lambdas a,b,..]    the feature-keeping run's fidelity weights offered (default:
 //                                                every one the grids hold curves for)
+//                    [--flat-growths a,b,..]     the flattening rule's growth limits offered (x noise level;
+//                                                0 = off; default 0,0.25,0.3,0.35,0.4); grids without the
+//                                                flat-edge column (before 2026-12-04, night) replay it as off
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -130,11 +133,21 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   if (!sharp || !smooth) return {-1, 0, "missing", 0};
   double creases = -1.0;
   bool clear = false, decided_smooth = false;
+  // The flattening rule's share of flat edges at half the probe (-1: not recorded).
+  double flat_half = -1.0;
+  if (r.flat_growth_per_level > 0.0)
+    for (const Checkpoint& c : *sharp)
+      if (c.it == r.probe_iterations / 2) flat_half = c.flat;
   auto decide = [&](const Checkpoint& c) {
     if (c.it == r.probe_iterations) {
       creases = c.s20 - c.s45;
       if (creases <= limit) {
         clear = r.clear_sharp_share > 0.0 && creases < r.clear_sharp_share;
+        if (flat_half >= 0.0 && c.flat >= 0.0 && c.flat < r.flat_share_max && c.flat - flat_half < r.flat_growth_per_level * p.level &&
+            c.s20 > r.flat_min_bends && c.s45 < r.flat_max_strong) {
+          decided_smooth = true;
+          return false;
+        }
         return true;
       }
       decided_smooth = true;
@@ -173,7 +186,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
 std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas,
-                                  const std::vector<double>& smooth_sigmas) {
+                                  const std::vector<double>& smooth_sigmas, const std::vector<double>& flat_growths) {
   std::vector<Candidate> out;
   for (double smooth_sigma : smooth_sigmas)
   for (double sharp_lambda : sharp_lambdas)
@@ -187,16 +200,24 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
               for (double slope : {0.0, 0.05, 0.1})
                 for (double clear : {0.0})
               for (int stat : {2})
-                for (double ts : {0.8, 1.0, 1.5, 0.0})
-                  for (double to : {0.4, 0.45, 0.5, 0.55, 0.6})
+                // (0.5-0.7 and 1.5 or none offered until 2026-12-04; every fold took 0.8)
+                for (double ts : {0.8, 1.0})
+                  // (0.4-0.6 offered until 2026-12-04; every fold took 0.45)
+                  for (double to : {0.45, 0.5})
                     for (double to_level : {0.0, 0.5, 0.75, 1.0})
                     for (double slack : {0.002})
                     for (double floor : {0.0, 0.7, 0.75, 0.8})
                     for (double floor_level : {0.1, 0.15, 0.2})
+                    for (double flat_growth : flat_growths)
+                    for (double flat_max : {0.4, 0.45, 0.5})
+                    for (double flat_strong : {1.0, 0.03, 0.04})
                       for (double fall : {0.0, 0.5, 0.7})
                       for (double plateau : {0.0, 0.01, 0.015, 0.02, 0.025})
                       for (double span : {2.0, 1.5}) {
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
+                      // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
+                      if (floor != 0.0 && floor != 0.75 && floor_level != 0.15) continue;
+                      if (flat_growth == 0.0 && (flat_max != 0.45 || flat_strong != 1.0)) continue;  // (one "off")
                       Candidate c;
                       AutoRules& r = c.rules;
                       r.plateau_span = span;
@@ -221,6 +242,9 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.smooth_target_floor = floor;
                       r.smooth_floor_level = floor_level;
                       r.turned_slack = slack;  // 1.0: no check (every face may turn)
+                      r.flat_growth_per_level = flat_growth;
+                      r.flat_share_max = flat_max;
+                      r.flat_max_strong = flat_strong;
                       out.push_back(c);
                     }
   return out;
@@ -239,7 +263,7 @@ struct Fit {
 };
 
 Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas,
-            const std::vector<double>& only_sharp_lambdas) {
+            const std::vector<double>& only_sharp_lambdas, const std::vector<double>& flat_growths) {
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -266,7 +290,8 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<doub
   }
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
-  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas);
+  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas,
+                       flat_growths);
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -332,9 +357,10 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g\n",
+              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f\n",
               label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack);
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack,
+              r.flat_growth_per_level, r.flat_share_max, r.flat_max_strong);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
@@ -363,6 +389,7 @@ int main(int argc, char** argv) {
   bool peer_objective = false;
   std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels offered (grids must hold their curves)
   std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights offered (empty: all the grids hold)
+  std::vector<double> flat_growths = {0.0, 0.25, 0.3, 0.35, 0.4};  // the flattening rule's growth limits offered (0: off)
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -381,6 +408,10 @@ int main(int argc, char** argv) {
       smooth_sigmas = bench::parse_list(argv[++i]);
       continue;
     }
+    if (std::strcmp(argv[i], "--flat-growths") == 0 && i + 1 < argc) {
+      flat_growths = bench::parse_list(argv[++i]);
+      continue;
+    }
     if (!table && std::strcmp(argv[i], "--sharp-lambdas") == 0 && i + 1 < argc) {
       sharp_lambdas = bench::parse_list(argv[++i]);
       continue;
@@ -396,7 +427,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas);
+  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.

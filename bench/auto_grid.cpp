@@ -144,10 +144,11 @@ int main(int argc, char** argv) {
                 flips_raw += cg.normals[f].dot(raw_normals[f]) < 0.0 ? 1 : 0;
                 flips_smooth += cg.normals[f].dot(smooth_normals[f]) < 0.0 ? 1 : 0;
               }
-              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu,%.6g,%.6g\n", pair.model.c_str(),
+              std::printf("C,%s,%s,%.2f,%.2f,%.1f,%.2f,%.2f,%d,%.4f,%zu,%.6g,%.6g,%.2f,%.5f,%.5f,%.5f,%zu,%zu,%zu,%.6g,%.6g,%.5f\n", pair.model.c_str(),
                           pair.variant.c_str(), s, l, r, 0.0, 0.0, it, q.msae, q.flips, std::sqrt(n2 / std::max<std::size_t>(1, count)),
                           std::sqrt(d2 / std::max<std::size_t>(1, count)), -ou, sharp[0], sharp[1], sharp[2], flips_raw, flips_smooth,
-                          input_smooth_flips, turned_area_share(cg, smooth_normals), input_turned_area);
+                          input_smooth_flips, turned_area_share(cg, smooth_normals), input_turned_area,
+                          bend_share(cg, topo, -1.0, AutoRules{}.flat_max_deg));
               return true;
             });
           }

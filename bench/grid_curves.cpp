@@ -61,6 +61,7 @@ std::map<std::string, PairData> load_grids(const std::vector<std::string>& files
         c.turned = std::stol(f[18]);
         p.input_turned = std::stol(f[19]);
         if (f.size() >= 22) c.turned_area = std::stod(f[20]), p.input_turned_area = std::stod(f[21]);
+        if (f.size() >= 23) c.flat = std::stod(f[22]);
         p.curves[curve_key(std::stod(f[3]), std::stod(f[4]), std::stod(f[5]), -std::stod(f[13]))].push_back(c);
       }
     }

@@ -12,6 +12,7 @@ struct Checkpoint {
   double msae = 0.0, ndisp = 0.0, s20 = 0.0, s45 = 0.0;
   long flips = 0, turned = 0;
   double turned_area = -1.0;  ///< share of the area turned against the smoothed input, as --auto's check (-1: not in the file)
+  double flat = -1.0;  ///< share of nearly flat edges (AutoRules::flat_max_deg), for the flattening rule (-1: not in the file)
 };
 
 struct PairData {
