@@ -13,16 +13,13 @@
 namespace scanmesh {
 namespace {
 
-// Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg]: soft creases.
-// Real features of machined parts are sharper; noise a feature-keeping filter locked in is not.
-double soft_crease_share(const FaceGeometry& g, const Topology& topo, double min_deg, double max_deg) {
-  return bend_share(g, topo, min_deg, max_deg);
-}
-
+// Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg] (bend_share) at
+// `positions`: soft creases for (20, 45]. Real features of machined parts are sharper; noise a
+// feature-keeping filter locked in is not.
 double soft_crease_share(const std::vector<Vec3>& positions, const Mesh& mesh, const Topology& topo, double min_deg, double max_deg) {
   FaceGeometry g;
-  compute_face_geometry(positions, mesh.faces, g);
-  return soft_crease_share(g, topo, min_deg, max_deg);
+  compute_face_geometry(positions, mesh.faces, g, false);
+  return bend_share(g, topo, min_deg, max_deg);
 }
 
 double enclosed_volume(const std::vector<Vec3>& p, const std::vector<Face>& faces) {
@@ -99,9 +96,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // scan's rough triangulation turn slivers and small facets that later ones straighten), until
   // rules.check_patience of them in a row follow one that passed, and keeps the last iteration that
   // passed (the input if none did). The discrepancy target ends it, unless `probe`
-  // (asked after every iteration) lifts it; the probe may also end the run.
+  // (asked after every iteration, with the face geometry the check computed) lifts it; the probe may
+  // also end the run.
   enum class Probe { go_on, stop, no_target };
-  using ProbeFn = std::function<Probe(int, const std::vector<Vec3>&)>;
+  using ProbeFn = std::function<Probe(int, const FaceGeometry&)>;
   // With `while_falling`, the target does not end the run while the soft creases are still falling fast
   // (below rules.crease_fall x their share at half the iterations): the filter is still taking noise out.
   //
@@ -164,7 +162,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       if (fails && last_pass > 0 && rules.check_patience > 0 && it - last_pass >= rules.check_patience) return false;
       if (track && target_on) {
         creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
-        creases_at[it] = soft_crease_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+        creases_at[it] = bend_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
       }
       if (target_on) {
         const double d = normal_displacement(topo, at, start, pos);
@@ -194,7 +192,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         }
       }
       if (target_it > 0) return true;  // past the target: no more probing
-      const Probe next = probe ? probe(it, pos) : Probe::go_on;
+      const Probe next = probe ? probe(it, at) : Probe::go_on;
       if (next == Probe::no_target) target_on = false;
       return next != Probe::stop;
     }, &cache);
@@ -303,23 +301,18 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   bool clear = false;
   const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
   const bool flattening = rules.flat_growth_per_level > 0.0;
-  double flat_half = -1.0, flat = -1.0, bends = -1.0;  // at half the probe and at the probe
+  double flat_half = -1.0, flat = -1.0;  // at half the probe and at the probe
   bool flattened = false;  // taken as smooth because its flat edges stopped growing
-  FaceGeometry probe_geometry;
-  auto probe = [&](int it, const std::vector<Vec3>& pos) {
+  auto probe = [&](int it, const FaceGeometry& g) {
     if (!decide) return Probe::go_on;
-    if (flattening && it == rules.probe_iterations / 2 && it > 0) {
-      compute_face_geometry(pos, mesh.faces, probe_geometry, false);
-      flat_half = bend_share(probe_geometry, topo, -1.0, rules.flat_max_deg);
-    }
+    if (flattening && it == rules.probe_iterations / 2 && it > 0) flat_half = bend_share(g, topo, -1.0, rules.flat_max_deg);
     if (it != rules.probe_iterations) return Probe::go_on;
-    compute_face_geometry(pos, mesh.faces, probe_geometry, false);
-    creases = soft_crease_share(probe_geometry, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+    creases = bend_share(g, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
     if (creases > crease_limit) return Probe::stop;  // smooth shape: this run ends here
     if (flattening && flat_half >= 0.0) {
-      flat = bend_share(probe_geometry, topo, -1.0, rules.flat_max_deg);
-      bends = bend_share(probe_geometry, topo, rules.soft_crease_min_deg, 180.0);
-      const double strong = bend_share(probe_geometry, topo, rules.soft_crease_max_deg, 180.0);
+      flat = bend_share(g, topo, -1.0, rules.flat_max_deg);
+      const double bends = bend_share(g, topo, rules.soft_crease_min_deg, 180.0);
+      const double strong = bend_share(g, topo, rules.soft_crease_max_deg, 180.0);
       flattened = flat < rules.flat_share_max && flat - flat_half < rules.flat_growth_per_level * na.level && bends > rules.flat_min_bends &&
                   strong < rules.flat_max_strong;
       if (flattened) return Probe::stop;
