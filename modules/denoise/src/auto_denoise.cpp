@@ -111,7 +111,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // before looking on, with what the run keeps at the target: true ends the run there (a mesh the probe
   // would call smooth need not run on).
   int levelled_at = 0;
-  using TargetFn = std::function<bool(const std::vector<Vec3>&)>;
+  using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
     const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
@@ -184,7 +184,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           const bool falling = track && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
           if (!falling) {
             reached = true;
-            if (!plateau || (ends_at_target && ends_at_target(accepted))) return false;
+            if (!plateau || (ends_at_target && ends_at_target(accepted, last_pass))) return false;
             target_it = it;
             at_target = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
             return true;
@@ -327,16 +327,26 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // raise the peak (810k faces: 457 -> 523 MB) for a build that costs them a few percent.
   cache.keep_topology(mesh.num_faces() <= 100000);
   // Reached the target before the probe: decided there, on what the run keeps (as after a run that ends
-  // at its target); a smooth shape ends the run.
-  auto smooth_at_target = [&](const std::vector<Vec3>& kept) {
+  // at its target); a smooth shape ends the run. If it keeps the input (no iteration passed the result
+  // check), there is nothing to judge: the input's creases are its noise, and a wider kernel would turn
+  // more of the surface still. The input is returned (as the fit's replay of the grids scores it).
+  bool nothing_at_target = false;  // the target came with the input kept
+  auto smooth_at_target = [&](const std::vector<Vec3>& kept, int kept_iteration) {
     if (!decide || creases >= 0.0) return false;
+    if (kept_iteration == 0) {
+      nothing_at_target = true;
+      return false;
+    }
     creases = soft_crease_share(kept, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
     return creases > crease_limit;
   };
   auto [rep, verdict] = checked_run(trial, sharp, probe, true, smooth_at_target);
   cache.keep_topology(false);
-  if (decide && creases < 0.0)  // ended before the probe (and not by the target, which smooth_at_target judged)
+  // Ended before the probe (and not by the target, which smooth_at_target judged): decided on what it
+  // keeps, unless that is the input (see smooth_at_target).
+  if (decide && creases < 0.0 && !nothing_at_target && rep.iterations > 0)
     creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+  const bool nothing_kept = decide && creases < 0.0;
   r.crease_share = creases;
   r.flat_share = flat;
   r.flat_share_half = flat_half;
@@ -361,7 +371,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     unfold(mesh);
   } else {
     r.mode = "sharp";
-    if (decide)
+    if (nothing_kept)
+      std::snprintf(line, sizeof line,
+                    "not judged: no feature-keeping iteration passed the result check before the %s (denoising turns more "
+                    "of the surface than the noise did; the input's creases are its noise); the feature-keeping run kept %d iterations",
+                    nothing_at_target ? "displacement target" : "probe", rep.iterations);
+    else if (decide)
       std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases%s",
                     std::min(rep.iterations, rules.probe_iterations), 100.0 * creases,
                     clear             ? " (clearly machined: no displacement stop)"
