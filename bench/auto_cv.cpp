@@ -8,7 +8,7 @@
 //                    [--sharp-lambdas a,b,..]    the feature-keeping run's fidelity weights offered (default:
 //                                                every one the grids hold curves for)
 //                    [--flat-growths a,b,..]     the flattening rule's growth limits offered (x noise level;
-//                                                0 = off; default 0,0.25,0.3,0.35,0.4); grids without the
+//                                                0 = off; default 0,0.35); grids without the
 //                                                flat-edge column (before 2026-12-04, night) replay it as off
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
@@ -121,7 +121,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     return it == p.curves.end() ? nullptr : &it->second;
   };
   if (p.isolated > r.impulsive_share) {
-    const auto* c = get(r.impulsive_sigma, r.impulsive_lambda, r.outlier_jump);
+    const auto* c = get(r.impulsive_sigma, r.impulsive_lambda, r.outlier_peaks ? -r.outlier_jump : r.outlier_jump);
     if (!c) return {-1, 0, "missing", 0};
     const Checkpoint* e = walk(*c, p, r, 0.0, r.impulsive_iterations, [](const Checkpoint&) { return true; }, stopped);
     return e ? Outcome{e->msae, e->flips, "impulsive", e->it} : Outcome{p.noisy_msae, p.noisy_flips, "impulsive", 0};
@@ -193,6 +193,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
   for (double smooth_lambda : smooth_lambdas)
   for (double imp : {0.011})
     for (double oj : {4.0, 6.0})
+    for (bool peaks : {false, true})
       for (int ni : {50, 100})
         for (int sharp = 0; sharp < 1; ++sharp)
           for (int probe : {14})  // (10 was offered until 2026-12-04: no fold took it, nor a slack of 1.0)
@@ -225,6 +226,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.crease_fall = fall;
                       r.impulsive_share = imp;
                       r.outlier_jump = oj;
+                      r.outlier_peaks = peaks;
                       r.impulsive_iterations = ni;
                       r.sharp_sigma = sharp == 0 ? 0.7 : 0.55;
                       r.sharp_lambda = sharp == 0 ? sharp_lambda : 0.3;
@@ -356,9 +358,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 }
 
 void print_rules(const char* label, const AutoRules& r) {
-  std::printf("%-16s impulsive>%.3f outliers>%.0fx %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
+  std::printf("%-16s impulsive>%.3f outliers>%.0fx%s %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
               "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f\n",
-              label, r.impulsive_share, r.outlier_jump, r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
+              label, r.impulsive_share, r.outlier_jump, r.outlier_peaks ? " peaks" : "", r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
               r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack,
               r.flat_growth_per_level, r.flat_share_max, r.flat_max_strong);
 }
@@ -389,7 +391,8 @@ int main(int argc, char** argv) {
   bool peer_objective = false;
   std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels offered (grids must hold their curves)
   std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights offered (empty: all the grids hold)
-  std::vector<double> flat_growths = {0.0, 0.25, 0.3, 0.35, 0.4};  // the flattening rule's growth limits offered (0: off)
+  // (0.25, 0.3 and 0.4 offered too until 2026-12-05: every fold took 0.35)
+  std::vector<double> flat_growths = {0.0, 0.35};  // the flattening rule's growth limits offered (0: off)
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {

@@ -4,6 +4,8 @@
 // earlier one (the state after k iterations does not depend on the total), so the grid is cheap enough
 // to fit --auto offline, with leave-one-model-out cross-validation (auto_cv).
 // usage: scanmesh_auto_grid [DATA_DIR] [--only MODEL,...] [--sigmas a,b,..] [--lambdas ..] [--radii ..]
+//                           [--outliers a,b,..]   outlier_jump values (0: off; negative: that value with
+//                                                 outlier_peaks; recorded as the curve's outlier key)
 //                           [--sliver-guard G] > grid.csv   (G: the denoiser's sliver_guard, default its default)
 #include <algorithm>
 #include <chrono>
@@ -106,7 +108,8 @@ int main(int argc, char** argv) {
             o.sigma_s = s;
             o.lambda = l;
             o.radius_factor = r;
-            o.outlier_jump = ou;
+            o.outlier_jump = std::abs(ou);
+            o.outlier_peaks = ou < 0.0;
             o.sliver_guard = sliver_guard;
             o.iterations = checkpoints.back();
             std::size_t next = 0;

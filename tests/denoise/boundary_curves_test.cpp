@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -15,6 +16,13 @@ int count(const std::vector<std::uint8_t>& flags, const Topology& t) {
   int n = 0;
   for (std::size_t v = 0; v < flags.size(); ++v) n += t.boundary_vertex[v] && flags[v] ? 1 : 0;
   return n;
+}
+
+std::vector<int> boundary_vertices(const Topology& t) {
+  std::vector<int> out;
+  for (std::size_t v = 0; v < t.boundary_vertex.size(); ++v)
+    if (t.boundary_vertex[v]) out.push_back(static_cast<int>(v));
+  return out;
 }
 
 }  // namespace
@@ -74,9 +82,7 @@ TEST(BoundaryCurves, ANoisyCircleStaysACircleOfTheSameRadius) {
   const Topology t = build_topology(m);
   std::mt19937 rng(3);
   std::normal_distribution<double> jitter(0.0, 0.01);
-  std::vector<int> rim;
-  for (std::size_t v = 0; v < m.num_vertices(); ++v)
-    if (t.boundary_vertex[v]) rim.push_back(static_cast<int>(v));
+  const std::vector<int> rim = boundary_vertices(t);
   const double radius = std::hypot(m.positions[rim[0]].x(), m.positions[rim[0]].y());
   for (int v : rim) {
     Vec3& p = m.positions[v];
@@ -128,4 +134,29 @@ TEST(BoundaryCurves, VerticesMoveAcrossTheCurveNotAlongIt) {
     if (t.boundary_vertex[v] && c.prev[v] >= 0 && c.next[v] >= 0)
       along = std::max(along, std::abs((free[v] - before[v]).dot((before[c.next[v]] - before[c.prev[v]]).normalized())));
   EXPECT_GT(along, 1e-3);  // the jitter along the rim is 0.01
+}
+
+TEST(BoundaryCurves, ImpulsesAlongTheRimAreFoundAndTheSquaresCornersAreNot) {
+  // A smooth rim (a disc's circle, with slight jitter so the median jump is not zero) with three
+  // vertices pushed off it: those three are the outliers, and nothing else is.
+  Mesh m = test::make_cap(12, 64, 1.2);
+  const Topology t = build_topology(m);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> jitter(0.0, 0.002);
+  const std::vector<int> rim = boundary_vertices(t);
+  for (int v : rim) m.positions[v] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  const BoundaryCurves c = build_boundary_curves(m, t);
+  std::vector<int> pushed;
+  for (int v = rim[5]; pushed.size() < 3; v = c.next[c.next[c.next[c.next[c.next[v]]]]]) {
+    m.positions[v] += Vec3(0.0, 0.0, 0.05);  // ~ half a rim edge (2 pi 0.93 / 64)
+    pushed.push_back(v);
+  }
+  const std::vector<std::uint8_t> out = boundary_outliers(m.positions, c, 4.0);
+  for (std::size_t v = 0; v < out.size(); ++v)
+    EXPECT_EQ(out[v] != 0, std::find(pushed.begin(), pushed.end(), static_cast<int>(v)) != pushed.end()) << v;
+
+  // A clean square's rim: its corners are corners, not impulses; its straight sides have no jumps.
+  const Mesh grid = test::make_grid(8);
+  const Topology tg = build_topology(grid);
+  EXPECT_EQ(count(boundary_outliers(grid.positions, build_boundary_curves(grid, tg), 4.0), tg), 0);
 }

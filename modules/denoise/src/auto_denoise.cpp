@@ -261,6 +261,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     if (!is_given("sigma_s")) o.sigma_s = rules.impulsive_sigma;
     if (!is_given("lambda")) o.lambda = rules.impulsive_lambda;
     if (!is_given("outlier_jump")) o.outlier_jump = rules.outlier_jump;
+    if (!is_given("outlier_peaks")) o.outlier_peaks = rules.outlier_peaks;
     if (!is_given("iterations")) o.iterations = rules.impulsive_iterations;
     std::snprintf(line, sizeof line, "impulsive noise: %.1f%% of the vertices are isolated outliers; only those move",
                   100.0 * na.isolated_outlier_share);

@@ -275,4 +275,26 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
   }
 }
 
+std::vector<std::uint8_t> boundary_outliers(const std::vector<Vec3>& positions, const BoundaryCurves& curves, double limit_factor) {
+  const std::size_t n = positions.size();
+  std::vector<std::uint8_t> out(n, 0);
+  if (curves.prev.size() != n) return out;
+  auto judged = [&](int v) { return v >= 0 && curves.prev[v] >= 0 && curves.next[v] >= 0 && !curves.corner[v] && !curves.ragged[v]; };
+  auto second = [&](int v) -> Vec3 { return positions[v] - 0.5 * (positions[curves.prev[v]] + positions[curves.next[v]]); };
+  std::vector<double> jump(n, -1.0);
+  std::vector<double> valid;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int v = static_cast<int>(i);
+    if (!judged(v) || !judged(curves.prev[v]) || !judged(curves.next[v])) continue;
+    jump[i] = (second(v) - 0.5 * (second(curves.prev[v]) + second(curves.next[v]))).norm();
+    valid.push_back(jump[i]);
+  }
+  if (valid.empty()) return out;
+  std::nth_element(valid.begin(), valid.begin() + static_cast<long>(valid.size() / 2), valid.end());
+  const double limit = limit_factor * valid[valid.size() / 2];
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = jump[i] > limit && !(jump[curves.prev[i]] > jump[i]) && !(jump[curves.next[i]] > jump[i]) ? 1 : 0;
+  return out;
+}
+
 }  // namespace scanmesh

@@ -276,18 +276,19 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   report.mean_centroid_distance = c_a;
   if (!(c_a > 0.0)) return report;  // every face degenerate: nothing to filter
 
-  // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move.
+  // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move; boundary
+  // vertices and others the jump cannot judge move too.
   std::vector<std::uint8_t> fixed;
   if (options.outlier_jump > 0.0) {
     const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
-    std::vector<double> valid;
-    for (double j : jump)
-      if (j >= 0.0) valid.push_back(j);
-    if (!valid.empty()) {
-      std::nth_element(valid.begin(), valid.begin() + valid.size() / 2, valid.end());
-      const double limit = options.outlier_jump * valid[valid.size() / 2];
-      fixed.assign(jump.size(), 0);
-      for (std::size_t v = 0; v < jump.size(); ++v) fixed[v] = jump[v] >= 0.0 && jump[v] <= limit ? 1 : 0;
+    if (std::any_of(jump.begin(), jump.end(), [](double j) { return j >= 0.0; })) {
+      fixed = outlier_vertices(mesh, topology, geometry, jump, options.outlier_jump, options.outlier_peaks);
+      // Without peaks the boundary vertices, which the jump cannot judge, all move; with it they are judged
+      // along their curves (all stay where no curves are kept).
+      std::vector<std::uint8_t> along;
+      if (options.outlier_peaks && boundary) along = boundary_outliers(mesh.positions, curves, options.outlier_jump);
+      for (std::size_t v = 0; v < fixed.size(); ++v)
+        fixed[v] = !fixed[v] && (jump[v] >= 0.0 || options.outlier_peaks) && !(!along.empty() && along[v]) ? 1 : 0;
     }
   }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.

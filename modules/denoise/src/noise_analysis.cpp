@@ -12,7 +12,9 @@ constexpr double kCalibration = 0.9;
 
 }  // namespace
 
-std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry) {
+std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
+                                 const std::vector<std::uint8_t>* excluded) {
+  auto out = [&](int j) { return excluded && (*excluded)[static_cast<std::size_t>(j)]; };
   const std::vector<Vec3> normals = vertex_normals(topo, geometry);
   const auto nv = static_cast<long>(mesh.num_vertices());
   std::vector<double> height(mesh.num_vertices(), 0.0);
@@ -22,8 +24,11 @@ std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const F
     const int n = topo.vertex_vertices.size(i);
     if (topo.boundary_vertex[i] || n < 3 || normals[i].isZero()) continue;
     Vec3 mean = Vec3::Zero();
-    for (const int* j = topo.vertex_vertices.begin(i); j != topo.vertex_vertices.end(i); ++j) mean += mesh.positions[*j];
-    mean /= n;
+    int m = 0;
+    for (const int* j = topo.vertex_vertices.begin(i); j != topo.vertex_vertices.end(i); ++j)
+      if (!out(*j)) mean += mesh.positions[*j], ++m;
+    if (m < 3) continue;
+    mean /= m;
     height[i] = normals[i].dot(mesh.positions[i] - mean);
     valid[i] = 1;
   }
@@ -34,13 +39,44 @@ std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const F
     double sum = 0.0;
     int n = 0;
     for (const int* j = topo.vertex_vertices.begin(i); j != topo.vertex_vertices.end(i); ++j)
-      if (valid[*j]) {
+      if (valid[*j] && !out(*j)) {
         sum += height[*j];
         ++n;
       }
     if (n >= 3) jump[i] = std::abs(height[i] - sum / n);
   }
   return jump;
+}
+
+std::vector<std::uint8_t> outlier_vertices(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
+                                           const std::vector<double>& jump, double limit_factor, bool peaks) {
+  std::vector<std::uint8_t> out(mesh.num_vertices(), 0);
+  std::vector<double> valid;
+  for (double j : jump)
+    if (j >= 0.0) valid.push_back(j);
+  if (valid.empty()) return out;
+  std::nth_element(valid.begin(), valid.begin() + static_cast<long>(valid.size() / 2), valid.end());
+  const double limit = limit_factor * valid[valid.size() / 2];
+  const auto nv = static_cast<long>(mesh.num_vertices());
+  if (!peaks) {
+    for (long v = 0; v < nv; ++v) out[v] = jump[v] > limit ? 1 : 0;
+    return out;
+  }
+  // Over the limit and the largest among the neighbours not yet taken (flags of an earlier round only).
+  auto take_peaks = [&](const std::vector<double>& j, const std::vector<std::uint8_t>& taken, std::vector<std::uint8_t>& result) {
+#pragma omp parallel for schedule(static)
+    for (long v = 0; v < nv; ++v) {
+      if (taken[v] || !(j[v] > limit)) continue;
+      bool peak = true;
+      for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v) && peak; ++w) peak = taken[*w] || !(j[*w] > j[v]);
+      if (peak) result[v] = 1;
+    }
+  };
+  const std::vector<std::uint8_t> none(mesh.num_vertices(), 0);
+  take_peaks(jump, none, out);
+  const std::vector<std::uint8_t> first = out;
+  take_peaks(vertex_jumps(mesh, topo, geometry, &first), first, out);
+  return out;
 }
 
 double exact_plane_fraction(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {

@@ -46,6 +46,7 @@ struct AutoRules {
   NoiseStatistic noise_statistic = NoiseStatistic::trimmed_rms;
   double impulsive_share = 0.011;  ///< share of isolated outliers above which noise counts as impulsive
   double outlier_jump = 4.0;       ///< impulsive mode: vertices whose jump exceeds this x the median move
+  bool outlier_peaks = false;      ///< ...and is the largest in their one-ring (DenoiseOptions::outlier_peaks)
   int impulsive_iterations = 100;
   double impulsive_sigma = 0.7;  ///< kernel width of the impulsive mode
   double impulsive_lambda = 0.2;

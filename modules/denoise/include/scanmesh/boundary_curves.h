@@ -53,4 +53,11 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
                             const BoundaryCurves& curves, double window, bool along_too = false);
 
+/// Impulsive noise along the boundary: 1 for boundary vertices displaced off their curve, judged as the
+/// interior's outliers are (noise_analysis.h, outlier_vertices with peaks) but in one dimension: the
+/// jump of the curve's second difference |L_v - (L_prev + L_next) / 2|, L_v = p_v - (p_prev + p_next) / 2,
+/// above `limit_factor` x its median over the boundary and the larger of the two neighbours'. Corners and
+/// vertices without two curve neighbours on each side are never outliers.
+std::vector<std::uint8_t> boundary_outliers(const std::vector<Vec3>& positions, const BoundaryCurves& curves, double limit_factor);
+
 }  // namespace scanmesh

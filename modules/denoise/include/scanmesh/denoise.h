@@ -49,6 +49,7 @@ struct DenoiseOptions {
   bool feature_aware_fidelity = false;
   double sliver_guard = 3.0;
   double outlier_jump = 0.0;
+  bool outlier_peaks = false;
 
   static const Schema<DenoiseOptions>& schema() {
     using O = DenoiseOptions;
@@ -98,7 +99,11 @@ struct DenoiseOptions {
                     "into slivers; 0 = off (the paper), otherwise at least 1.")
             .number("outlier_jump", &O::outlier_jump, closed(0, 1000), "x median jump",
                     "Impulsive noise: only vertices whose height jump over their one-ring exceeds this multiple of the "
-                    "median move (the outliers), the rest stay; 0 moves every vertex.");
+                    "median move (the outliers), the rest stay; 0 moves every vertex.")
+            .flag("outlier_peaks", &O::outlier_peaks,
+                  "With outlier_jump: of the vertices over the limit only those with the largest jump in their one-ring "
+                  "move (then those largest once the first are left out): a coarse model's corners, which come in "
+                  "chains, stay.");
     return s;
   }
 };
