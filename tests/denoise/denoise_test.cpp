@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <random>
 #include <set>
 
 #include "helpers.h"
@@ -480,4 +481,28 @@ TEST(Denoise, SliverGuardKeepsTrianglesAtSharpEdgesFromCollapsing) {
   EXPECT_LT(g.quality_max, 3.0) << "unguarded " << u.quality_max;
   EXPECT_LE(g.msae_deg, 1.01 * u.msae_deg);
   EXPECT_LE(g.flipped_faces, u.flipped_faces);
+}
+
+TEST(Denoise, ImpulsiveNoiseOnAnOpenMeshMovesTheRimsOutliersOnly) {
+  // A spherical cap with its rim slightly jittered and three rim vertices lifted off it: with outlier_jump
+  // the lifted ones move back towards the rim's curve and every other rim vertex stays exactly where it was.
+  Mesh m = test::make_cap(12, 64, 1.2);
+  const Topology t = build_topology(m);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> jitter(0.0, 0.002);
+  std::vector<int> rim;
+  for (std::size_t v = 0; v < m.num_vertices(); ++v)
+    if (t.boundary_vertex[v]) rim.push_back(static_cast<int>(v)), m.positions[v] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  const std::vector<Vec3> before_lift = m.positions;
+  const std::set<int> lifted = {rim[3], rim[20], rim[41]};
+  for (int v : lifted) m.positions[v] += 0.05 * m.positions[v].normalized();
+  const Mesh input = m;
+  DenoiseOptions o;
+  o.outlier_jump = 4.0;
+  o.iterations = 20;
+  denoise(m, o);
+  for (int v : rim) {
+    if (lifted.count(v)) EXPECT_LT((m.positions[v] - before_lift[v]).norm(), 0.5 * 0.05) << v;
+    else EXPECT_EQ(m.positions[v], input.positions[v]) << v;
+  }
 }

@@ -283,12 +283,11 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
     if (std::any_of(jump.begin(), jump.end(), [](double j) { return j >= 0.0; })) {
       fixed = outlier_vertices(mesh, topology, geometry, jump, options.outlier_jump, options.outlier_peaks);
-      // Without peaks the boundary vertices, which the jump cannot judge, all move; with it they are judged
-      // along their curves (all stay where no curves are kept).
+      // Boundary vertices, which the jump cannot judge, are judged along their curves; those on no curve
+      // (corners, irregular or ragged loops, or no curves kept) stay.
       std::vector<std::uint8_t> along;
-      if (options.outlier_peaks && boundary) along = boundary_outliers(mesh.positions, curves, options.outlier_jump);
-      for (std::size_t v = 0; v < fixed.size(); ++v)
-        fixed[v] = !fixed[v] && (jump[v] >= 0.0 || options.outlier_peaks) && !(!along.empty() && along[v]) ? 1 : 0;
+      if (boundary) along = boundary_outliers(mesh.positions, curves, options.outlier_jump);
+      for (std::size_t v = 0; v < fixed.size(); ++v) fixed[v] = !fixed[v] && !(!along.empty() && along[v]) ? 1 : 0;
     }
   }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.

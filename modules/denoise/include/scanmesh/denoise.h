@@ -99,7 +99,8 @@ struct DenoiseOptions {
                     "into slivers; 0 = off (the paper), otherwise at least 1.")
             .number("outlier_jump", &O::outlier_jump, closed(0, 1000), "x median jump",
                     "Impulsive noise: only vertices whose height jump over their one-ring exceeds this multiple of the "
-                    "median move (the outliers), the rest stay; 0 moves every vertex.")
+                    "median move (the outliers), the rest stay (boundary vertices: judged the same way along their "
+                    "boundary curve); 0 moves every vertex.")
             .flag("outlier_peaks", &O::outlier_peaks,
                   "With outlier_jump: of the vertices over the limit only those with the largest jump in their one-ring "
                   "move (then those largest once the first are left out): a coarse model's corners, which come in "
