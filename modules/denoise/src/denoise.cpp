@@ -355,9 +355,9 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     update_vertices(positions, topology, fidelity, geometry, filtered, terms, updated, &mesh.faces);
     positions.swap(updated);
     if (boundary)
-      // Under impulsive noise the vertices that move (outliers, and boundary vertices, which the jump test
-      // cannot judge) are off by impulses, not by noise, so the curve fit moves them along the curve too;
-      // the fixed ones are put back below whatever the fit did.
+      // Under impulsive noise the vertices that move (outliers, on the boundary those off their curve) are
+      // off by impulses, not by noise, so the curve fit moves them along the curve too; the fixed ones are
+      // put back below whatever the fit did.
       smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window, !fixed.empty());
     if (!fixed.empty())
       for (std::size_t v = 0; v < positions.size(); ++v)
