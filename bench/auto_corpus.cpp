@@ -2,20 +2,31 @@
 // defaults and a peer, bi-Laplacian smoothing with 10 iterations (peers.h) (MSAE in degrees against the
 // clean mesh / flipped faces). A quick check of a change to --auto;
 // the held-back (leave-one-model-out) figures come from scanmesh_auto_cv table.
-// usage: scanmesh_auto_corpus [DATA_DIR] [--only MODEL]
+// usage: scanmesh_auto_corpus [DATA_DIR] [--only MODEL] [--write-pairs DIR]
+//        --write-pairs DIR also writes each pair's meshes (MODEL-clean.ply, MODEL-VARIANT.ply) to DIR, to
+//        rerun one with the command line
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "corpus.h"
 #include "peers.h"
 #include "scanmesh/auto_denoise.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/mesh_io.h"
 
 using namespace scanmesh;
 
 int main(int argc, char** argv) {
-  const auto models = bench::corpus_models_from_args(argc, argv);
+  std::string write_dir;
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--write-pairs") && i + 1 < argc) write_dir = argv[++i];
+    else args.push_back(argv[i]);
+  }
+  const auto models = bench::corpus_models_from_args(static_cast<int>(args.size()), args.data());
   if (!models) return 0;
   std::printf("model,variant,noisy_msae,noisy_flips,default_msae,default_flips,auto_msae,auto_flips,mode,iterations,"
               "noisy_slivers,default_slivers,auto_slivers,bilaplacian_msae,bilaplacian_flips\n");
@@ -25,6 +36,10 @@ int main(int argc, char** argv) {
   for (const auto& model : *models) {
     for (const auto& pair : bench::load_pairs(model)) {
       const MeshMetrics noisy = evaluate(pair.noisy, &pair.clean);
+      if (!write_dir.empty()) {
+        write_mesh(pair.clean, write_dir + "/" + pair.model + "-clean.ply");
+        write_mesh(pair.noisy, write_dir + "/" + pair.model + "-" + pair.variant + ".ply");
+      }
       Mesh d = pair.noisy;
       denoise(d, DenoiseOptions{});
       const MeshMetrics dm = evaluate(d, &pair.clean);
