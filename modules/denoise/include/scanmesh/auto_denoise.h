@@ -5,7 +5,8 @@
 //    the robust spread of those jumps estimates the noise (noise_analysis.h).
 // 2. Noise-free tessellations (vertices exactly in their faces' planes) are left alone.
 // 3. Impulsive noise (many isolated outliers, jumps above 6x the median with calm neighbours) is
-//    removed by moving only the outliers.
+//    removed by moving only the outliers: vertices whose jump is above 4x the median and the largest in
+//    their one-ring (outlier_peaks), and boundary vertices off their curves.
 // 4. Otherwise a feature-keeping run starts (narrow kernel). If after `probe_iterations` its surface is
 //    still full of soft creases (20-45 degrees; the features of machined parts are sharper), they are
 //    noise it locked in: the mesh is smooth (organic) and is denoised from the start with a wide kernel.
@@ -46,7 +47,7 @@ struct AutoRules {
   NoiseStatistic noise_statistic = NoiseStatistic::trimmed_rms;
   double impulsive_share = 0.011;  ///< share of isolated outliers above which noise counts as impulsive
   double outlier_jump = 4.0;       ///< impulsive mode: vertices whose jump exceeds this x the median move
-  bool outlier_peaks = false;      ///< ...and is the largest in their one-ring (DenoiseOptions::outlier_peaks)
+  bool outlier_peaks = true;       ///< ...and is the largest in their one-ring (DenoiseOptions::outlier_peaks)
   int impulsive_iterations = 100;
   double impulsive_sigma = 0.7;  ///< kernel width of the impulsive mode
   double impulsive_lambda = 0.2;
