@@ -276,8 +276,9 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   report.mean_centroid_distance = c_a;
   if (!(c_a > 0.0)) return report;  // every face degenerate: nothing to filter
 
-  // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move; boundary
-  // vertices and others the jump cannot judge move too.
+  // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move, on the boundary
+  // those off their curve; vertices neither test can judge (fewer than three neighbours, boundary corners,
+  // ragged loops, boundaries not kept as curves) stay.
   std::vector<std::uint8_t> fixed;
   if (options.outlier_jump > 0.0) {
     const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);

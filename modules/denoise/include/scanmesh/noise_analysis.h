@@ -43,11 +43,12 @@ std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topology, con
                                  const std::vector<std::uint8_t>* excluded = nullptr);
 
 /// Impulsive noise: 1 for the vertices taken as outliers, those whose jump (`jump`, vertex_jumps() of
-/// the same mesh) exceeds `limit_factor` x the median jump. With `peaks`, only those whose jump is also the largest in their one-ring count, and then
-/// (once) those that are the largest when the first are left out of their neighbours' rings: one
-/// displaced vertex raises its neighbours' jumps to about a third of its own, while a coarse model's
-/// feature vertices come in chains of similar jumps, so a plain limit takes both for outliers. Boundary
-/// vertices have no jump and are never outliers here (boundary_curves.h: boundary_outliers).
+/// the same mesh) exceeds `limit_factor` x the median jump. With `peaks`, only those whose jump is also
+/// the largest in their one-ring count, and then (once) those that are the largest when the first are
+/// left out of their neighbours' rings: one displaced vertex raises its neighbours' jumps to about a
+/// third of its own, while a coarse model's feature vertices come in chains of similar jumps, so a plain
+/// limit takes both for outliers. Boundary vertices have no jump and are never outliers here
+/// (boundary_curves.h: boundary_outliers).
 std::vector<std::uint8_t> outlier_vertices(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry,
                                            const std::vector<double>& jump, double limit_factor, bool peaks);
 
