@@ -278,16 +278,19 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
 
   // Impulsive noise: only the outliers (height jump above outlier_jump x the median) move, on the boundary
   // those off their curve; vertices neither test can judge (fewer than three neighbours, boundary corners,
-  // ragged loops, boundaries not kept as curves) stay.
+  // ragged loops) stay.
   std::vector<std::uint8_t> fixed;
   if (options.outlier_jump > 0.0) {
     const std::vector<double> jump = vertex_jumps(mesh, topology, geometry);
     if (std::any_of(jump.begin(), jump.end(), [](double j) { return j >= 0.0; })) {
       fixed = outlier_vertices(mesh, topology, geometry, jump, options.outlier_jump, options.outlier_peaks);
-      // Boundary vertices, which the jump cannot judge, are judged along their curves; those on no curve
-      // (corners, irregular or ragged loops, or no curves kept) stay.
+      // Boundary vertices, which the jump cannot judge, are judged along their curves (found for this
+      // even when the boundary is not kept as curves); those on no curve (corners, irregular or ragged
+      // loops) stay.
       std::vector<std::uint8_t> along;
       if (boundary) along = boundary_outliers(mesh.positions, curves, options.outlier_jump);
+      else if (topology.num_boundary_edges() > 0)
+        along = boundary_outliers(mesh.positions, build_boundary_curves(mesh, topology), options.outlier_jump);
       for (std::size_t v = 0; v < fixed.size(); ++v) fixed[v] = !fixed[v] && !(!along.empty() && along[v]) ? 1 : 0;
     }
   }
