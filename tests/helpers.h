@@ -10,8 +10,10 @@
 #include <map>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include "scanmesh/mesh.h"
+#include "scanmesh/topology.h"
 
 namespace scanmesh::test {
 
@@ -189,6 +191,21 @@ inline void jitter_z(Mesh& m, double sigma, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0.0, sigma);
   for (auto& p : m.positions) p.z() += n(rng);
+}
+
+/// The vertices `t` flags as boundary, in index order.
+inline std::vector<int> boundary_vertices(const Topology& t) {
+  std::vector<int> out;
+  for (std::size_t v = 0; v < t.boundary_vertex.size(); ++v)
+    if (t.boundary_vertex[v]) out.push_back(static_cast<int>(v));
+  return out;
+}
+
+/// Moves each of `vertices` by N(0, sigma) in x, y and z using a fixed seed.
+inline void jitter_3d(Mesh& m, const std::vector<int>& vertices, double sigma, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, sigma);
+  for (int v : vertices) m.positions[v] += Vec3(n(rng), n(rng), n(rng));
 }
 
 /// Test fixture with a fresh temporary directory per test, removed afterwards.

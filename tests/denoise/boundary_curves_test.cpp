@@ -18,13 +18,6 @@ int count(const std::vector<std::uint8_t>& flags, const Topology& t) {
   return n;
 }
 
-std::vector<int> boundary_vertices(const Topology& t) {
-  std::vector<int> out;
-  for (std::size_t v = 0; v < t.boundary_vertex.size(); ++v)
-    if (t.boundary_vertex[v]) out.push_back(static_cast<int>(v));
-  return out;
-}
-
 }  // namespace
 
 TEST(BoundaryCurves, FindsTheCornersOfASquare) {
@@ -82,7 +75,7 @@ TEST(BoundaryCurves, ANoisyCircleStaysACircleOfTheSameRadius) {
   const Topology t = build_topology(m);
   std::mt19937 rng(3);
   std::normal_distribution<double> jitter(0.0, 0.01);
-  const std::vector<int> rim = boundary_vertices(t);
+  const std::vector<int> rim = test::boundary_vertices(t);
   const double radius = std::hypot(m.positions[rim[0]].x(), m.positions[rim[0]].y());
   for (int v : rim) {
     Vec3& p = m.positions[v];
@@ -141,10 +134,8 @@ TEST(BoundaryCurves, ImpulsesAlongTheRimAreFoundAndTheSquaresCornersAreNot) {
   // vertices pushed off it: those three are the outliers, and nothing else is.
   Mesh m = test::make_cap(12, 64, 1.2);
   const Topology t = build_topology(m);
-  std::mt19937 rng(5);
-  std::normal_distribution<double> jitter(0.0, 0.002);
-  const std::vector<int> rim = boundary_vertices(t);
-  for (int v : rim) m.positions[v] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  const std::vector<int> rim = test::boundary_vertices(t);
+  test::jitter_3d(m, rim, 0.002, 5);
   const BoundaryCurves c = build_boundary_curves(m, t);
   std::vector<int> pushed;
   for (int v = rim[5]; pushed.size() < 3; v = c.next[c.next[c.next[c.next[c.next[v]]]]]) {

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <random>
 #include <set>
 
 #include "helpers.h"
@@ -488,11 +487,8 @@ TEST(Denoise, ImpulsiveNoiseOnAnOpenMeshMovesTheRimsOutliersOnly) {
   // the lifted ones move back and every other rim vertex stays exactly where it was.
   Mesh m = test::make_cap(12, 64, 1.2);
   const Topology t = build_topology(m);
-  std::mt19937 rng(9);
-  std::normal_distribution<double> jitter(0.0, 0.002);
-  std::vector<int> rim;
-  for (std::size_t v = 0; v < m.num_vertices(); ++v)
-    if (t.boundary_vertex[v]) rim.push_back(static_cast<int>(v)), m.positions[v] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  const std::vector<int> rim = test::boundary_vertices(t);
+  test::jitter_3d(m, rim, 0.002, 9);
   const std::vector<Vec3> before_lift = m.positions;
   const std::set<int> lifted = {rim[3], rim[20], rim[41]};
   for (int v : lifted) m.positions[v] += 0.05 * m.positions[v].normalized();
