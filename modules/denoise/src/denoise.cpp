@@ -291,7 +291,10 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
       if (boundary) along = boundary_outliers(mesh.positions, curves, options.outlier_jump);
       else if (topology.num_boundary_edges() > 0)
         along = boundary_outliers(mesh.positions, build_boundary_curves(mesh, topology), options.outlier_jump);
-      for (std::size_t v = 0; v < fixed.size(); ++v) fixed[v] = !fixed[v] && !(!along.empty() && along[v]) ? 1 : 0;
+      for (std::size_t v = 0; v < fixed.size(); ++v) {
+        const bool outlier = fixed[v] || (!along.empty() && along[v]);
+        fixed[v] = outlier ? 0 : 1;
+      }
     }
   }
   // The discrepancy principle: stop once the RMS displacement along the vertex normals reaches the target.
