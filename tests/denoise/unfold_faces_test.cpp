@@ -97,3 +97,30 @@ TEST(UnfoldFaces, SliversOfTheInputAreLeftAlone) {
   EXPECT_EQ(r.moved, 0u);
   EXPECT_EQ(p, before);
 }
+
+TEST(UnfoldFaces, OnlyMovesThatUndoAFoldOrStraightenItAreMade) {
+  // A roof (two planes meeting at the ridge x = 4), the reference its clean normals. A vertex pulled
+  // within its plane past its neighbour folds two faces; of the folds' corners, moving the pulled vertex
+  // and one neighbour undoes them. The other corners' moves would turn no fewer faces and lean them no
+  // less from the reference: they are not made (they were, and drifted, before).
+  Mesh roof = test::make_grid(8);
+  for (auto& p : roof.positions) p.z() = 0.5 * (4.0 - std::abs(p.x() - 4.0));
+  const Topology t = build_topology(roof);
+  FaceGeometry g;
+  compute_face_geometry(roof.positions, roof.faces, g);
+  const int v = 4 * 9 + 3;  // x = 3, y = 4
+  std::vector<Vec3> p = roof.positions;
+  p[v] += Vec3(-1.3, 0.0, -0.65);
+  const UnfoldReport r = unfold_faces(p, roof.faces, t, roof.positions, g.normals);
+  EXPECT_GT(r.folds, 0u);
+  EXPECT_EQ(r.remaining, 0u);
+  for (std::size_t f = 0; f < roof.faces.size(); ++f) {
+    const Face& a = roof.faces[f];
+    EXPECT_GT((p[a[1]] - p[a[0]]).cross(p[a[2]] - p[a[0]]).dot(g.normals[f]), 0.0) << f;
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (roof.positions[i].y() != 4.0) {
+      EXPECT_EQ(p[i], roof.positions[i]) << i;
+    }
+  }
+}

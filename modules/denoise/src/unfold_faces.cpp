@@ -62,6 +62,22 @@ UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>&
     return n;
   };
 
+  // How far the faces around v lean from their reference normals with v at p: the sum of area x
+  // (1 - cos angle), twice it (the raw normal's length is twice the area). A move that turns no fewer
+  // faces is kept only if this falls: otherwise the corners of a fold that cannot be undone drift
+  // towards their neighbours' middle round after round and bend the faces around them (on a coarse car
+  // body under impulsive noise that took the result from 8.45 to 9.06 degrees against the clean mesh,
+  // past the noisy input's 8.99).
+  auto misfit_around = [&](int v, const Vec3& p) {
+    double sum = 0.0;
+    for (const int* f = topology.vertex_faces.begin(v); f != topology.vertex_faces.end(v); ++f) {
+      const Face& t = faces[*f];
+      const Vec3 n = raw_normal(t[0] == v ? p : positions[t[0]], t[1] == v ? p : positions[t[1]], t[2] == v ? p : positions[t[2]]);
+      sum += n.norm() - n.dot(reference[*f]);
+    }
+    return sum;
+  };
+
   // Faces to look at: all of them first, then only those around the vertices that moved.
   std::vector<int> look(nf);
   for (std::size_t f = 0; f < nf; ++f) look[f] = static_cast<int>(f);
@@ -99,7 +115,8 @@ UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>&
       Vec3 d = mean / n - positions[v];
       d -= d.dot(up) * up;
       const Vec3 p = positions[v] + step * d;
-      if (turned_around(v, p) <= turned_around(v, positions[v])) moves.emplace_back(v, p);
+      const int now = turned_around(v, positions[v]), then = turned_around(v, p);
+      if (then < now || (then == now && misfit_around(v, p) < misfit_around(v, positions[v]))) moves.emplace_back(v, p);
     }
     if (moves.empty()) break;
     // Every move was judged against the positions of this round; they are made together.

@@ -3,8 +3,8 @@
 // against the smoothed input, and against its own unturned neighbours, is a fold: a vertex pulled across
 // its neighbour's edge, most often an impulsive outlier left half-way or a small facet a feature-keeping
 // run snapped to the wrong side. Its corners are relaxed within the surface, towards the middle of their
-// neighbours, a step at a time, each move kept only if it turns no more faces around that vertex than
-// before. Faces that were slivers in the input are left as they are: their normals are noise, and moving
+// neighbours, a step at a time, each move kept only if it turns fewer faces around that vertex than
+// before, or as many and leaves them leaning less from the reference (area x (1 - cos)). Faces that were slivers in the input are left as they are: their normals are noise, and moving
 // their corners bends the large faces next to them (measured on a CAD tessellation with zipper strips).
 #include <cstddef>
 #include <vector>
