@@ -1,6 +1,6 @@
-// A PLY file's binary body read a chunk at a time (read_ply_file) and an OBJ file read a block of lines
-// at a time (read_obj_file), what read_mesh does for big files, give what reading the whole file gives:
-// the same mesh, warnings and errors (line numbers included), at any chunk size.
+// A PLY file's binary body read a chunk at a time (read_ply_file), and OBJ and OFF files read a block of
+// lines at a time (read_obj_file, read_off_file), what read_mesh does for big files, give what reading
+// the whole file gives: the same mesh, warnings and errors (line numbers included), at any chunk size.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -112,14 +112,49 @@ TEST_F(ChunkedReading, ObjReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
   same("nan.obj", sphere.substr(0, sphere.size() / 2) + "\nv 1 nan 2\n");
 }
 
+TEST_F(ChunkedReading, OffReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
+  auto same = [&](const std::string& name, const std::string& text) {
+    const std::string file = write(name, text);
+    const std::string whole = outcome([&](auto& w) { return detail::read_off(read_file(file), file, w); });
+    for (std::size_t chunk : {16, 37, 1000})
+      EXPECT_EQ(outcome([&](auto& w) { return detail::read_off_file(file, w, chunk); }), whole) << name << " " << chunk;
+    return whole;
+  };
+  // Comments, blank lines, CRLF, colours, a vertex whose coordinates run over three lines (blocks end
+  // inside it), a quad, a line longer than a chunk, no newline at the end.
+  std::string off = "COFF\r\n# made by hand\n\n4 2 0\n0 0 0 255 0 0\n1\n# between coordinates\n0\n0 0 255 0\n";
+  off += "1 1 0 0 0 255\n0 1 0 128 128 128\n";
+  off += "4 0 1 2 3";
+  for (int i = 0; i < 30; ++i) off += "   ";
+  off += "\n3 0 2 3";
+  const std::string hand = same("hand.off", off);
+  EXPECT_EQ(hand.find("error"), std::string::npos) << hand;
+  EXPECT_NE(hand.find("|3|"), std::string::npos) << hand;  // the three colour channels
+  // The header keyword left out, as some writers do.
+  EXPECT_EQ(same("bare.off", "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").find("error"), std::string::npos);
+  // A sphere written by the OFF writer; errors on a late line keep their line numbers.
+  const std::string sphere = encode_mesh(test::make_sphere(2), ".off");
+  same("sphere.off", sphere);
+  std::string late = sphere;
+  const std::size_t last_face = late.rfind("\n3 ") + 1;
+  late.replace(last_face, late.size() - last_face, "3 0 1 999999\n");
+  const std::string bad = same("bad.off", late);
+  std::string expected = std::to_string(std::count(late.begin(), late.end(), '\n'));
+  expected += ": face " + std::to_string(test::make_sphere(2).num_faces() - 1) + " refers to vertex 999999";
+  EXPECT_NE(bad.find(expected), std::string::npos) << bad;
+  EXPECT_NE(same("cut.off", sphere.substr(0, sphere.size() / 3)).find("truncated"), std::string::npos);
+  EXPECT_NE(same("empty.off", "OFF\n# nothing\n").find("counts"), std::string::npos);
+}
+
 TEST_F(ChunkedReading, MutatedFilesGiveTheSameOutcomeInChunksAsWhole) {
-  // Truncated, byte-flipped and number-swapped PLY (binary and text) and OBJ files: the chunked readers
+  // Truncated, byte-flipped and number-swapped PLY (binary and text), OBJ and OFF files: the chunked readers
   // load the same mesh or fail with the same message as the whole-file readers.
   const Mesh m = test::make_sphere(2);
   std::vector<std::pair<std::string, std::string>> valid;
   valid.emplace_back(".ply", encode_mesh(m, ".ply"));
   valid.emplace_back(".ply", encode_mesh(m, ".ply", WriteOptions{false}));
   valid.emplace_back(".obj", encode_mesh(m, ".obj"));
+  valid.emplace_back(".off", encode_mesh(m, ".off"));
   int compared = 0;
   for (const auto& entry : valid) {
     const std::string& ext = entry.first;  // not a structured binding: lambdas below capture it (C++17)
@@ -138,16 +173,18 @@ TEST_F(ChunkedReading, MutatedFilesGiveTheSameOutcomeInChunksAsWhole) {
       }
       const std::string file = write("m" + ext, bytes);
       const std::string whole = outcome([&](auto& w) {
-        return ext == ".ply" ? detail::read_ply(read_file(file), file, w) : detail::read_obj(read_file(file), file, w);
+        if (ext == ".ply") return detail::read_ply(read_file(file), file, w);
+        return ext == ".obj" ? detail::read_obj(read_file(file), file, w) : detail::read_off(read_file(file), file, w);
       });
       const std::string chunked = outcome([&](auto& w) {
-        return ext == ".ply" ? detail::read_ply_file(file, w, true, nullptr, 64) : detail::read_obj_file(file, w, 16);
+        if (ext == ".ply") return detail::read_ply_file(file, w, true, nullptr, 64);
+        return ext == ".obj" ? detail::read_obj_file(file, w, 16) : detail::read_off_file(file, w, 16);
       });
       EXPECT_EQ(chunked, whole) << ext << " round " << round;
       ++compared;
     }
   }
-  EXPECT_EQ(compared, 270);
+  EXPECT_EQ(compared, 360);
 }
 
 }  // namespace

@@ -44,4 +44,31 @@ class FileChunks {
   std::size_t fresh_ = 0;
 };
 
+/// Hands `parse(block, line, last)` the file in blocks of whole lines (about `chunk` bytes each; a line
+/// longer than that makes a longer block), `line` being the file's line number of the block's first line;
+/// `parse` returns the line after the block. The last block (`last` true) holds what follows the last
+/// newline, possibly nothing.
+template <class Parse>
+void for_each_line_block(const std::string& path, std::size_t chunk, Parse&& parse) {
+  FileChunks chunks(path, chunk);
+  std::size_t line = 1, carried = 0;  // bytes of an unfinished line at the end of the window
+  for (;;) {
+    const std::string_view window = chunks.next(carried);
+    if (chunks.fresh() == 0) {  // end of file: the last line has no newline
+      parse(window, line, true);
+      return;
+    }
+    // Only the new bytes can hold a newline (the carried ones are one unfinished line), so a file of one
+    // endless line is scanned once, not once per chunk.
+    const std::size_t found = window.substr(carried).rfind('\n');
+    if (found == std::string_view::npos) {  // one line longer than the chunk: read on
+      carried = window.size();
+      continue;
+    }
+    const std::size_t end = carried + found + 1;
+    line = parse(window.substr(0, end), line, false);
+    carried = window.size() - end;
+  }
+}
+
 }  // namespace scanmesh::detail

@@ -15,6 +15,8 @@ Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::s
 /// Reads an OBJ file from disk a block of whole lines (about `chunk_bytes`) at a time.
 Mesh read_obj_file(const std::string& path, std::vector<std::string>& warnings, std::size_t chunk_bytes = std::size_t{4} << 20);
 Mesh read_off(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
+/// Reads an OFF file from disk a block of whole lines (about `chunk_bytes`) at a time.
+Mesh read_off_file(const std::string& path, std::vector<std::string>& warnings, std::size_t chunk_bytes = std::size_t{4} << 20);
 /// More of a PLY file's binary body: called with the number of unread bytes at the end of the current
 /// window, returns a new window starting with them (shorter than asked at the end of the file).
 using PlyRefill = std::function<std::string_view(std::size_t keep)>;

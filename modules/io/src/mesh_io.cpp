@@ -39,7 +39,8 @@ bool is_mesh_extension(const std::string& ext) {
 
 namespace {
 
-// Files up to this size are read whole; bigger PLY files stream their binary body.
+// Files up to this size are read whole; bigger OBJ and OFF files are read a block of lines at a time,
+// bigger PLY files stream their binary body.
 constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
 
 // What every mesh read passes: indices in range, finite coordinates, at least one face.
@@ -56,14 +57,14 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   if (!is_mesh_extension(ext))
     throw InputError("'" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .obj .off .ply .stl");
-  // A big OBJ file, or a big PLY file's binary body, is read in chunks rather than held whole next to
-  // the mesh.
+  // A big OBJ or OFF file, or a big PLY file's binary body, is read in chunks rather than held whole
+  // next to the mesh.
   std::error_code ec;
-  if ((ext == ".ply" || ext == ".obj") && std::filesystem::is_regular_file(path, ec) &&
-      std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
+  if (ext != ".stl" && std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
     std::vector<std::string> local;
     std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
-    return checked(ext == ".ply" ? detail::read_ply_file(path, w) : detail::read_obj_file(path, w), path);
+    if (ext == ".ply") return checked(detail::read_ply_file(path, w), path);
+    return checked(ext == ".obj" ? detail::read_obj_file(path, w) : detail::read_off_file(path, w), path);
   }
   return decode_mesh(read_file(path), path, warnings);
 }

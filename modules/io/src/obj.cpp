@@ -102,26 +102,8 @@ Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::s
 }
 
 Mesh read_obj_file(const std::string& path, std::vector<std::string>& warnings, std::size_t chunk_bytes) {
-  FileChunks chunks(path, chunk_bytes);
   ObjParser parser(path, warnings);
-  std::size_t line = 1, carried = 0;  // bytes of an unfinished line at the end of the window
-  for (;;) {
-    const std::string_view window = chunks.next(carried);
-    if (chunks.fresh() == 0) {  // end of file: the last line has no newline
-      parser.parse(window, line);
-      break;
-    }
-    // Only the new bytes can hold a newline (the carried ones are one unfinished line), so a file of one
-    // endless line is scanned once, not once per chunk.
-    const std::size_t found = window.substr(carried).rfind('\n');
-    if (found == std::string_view::npos) {  // one line longer than the chunk: read on
-      carried = window.size();
-      continue;
-    }
-    const std::size_t end = carried + found + 1;
-    line = parser.parse(window.substr(0, end), line);
-    carried = window.size() - end;
-  }
+  for_each_line_block(path, chunk_bytes, [&](std::string_view block, std::size_t line, bool) { return parser.parse(block, line); });
   return parser.finish();
 }
 
