@@ -95,6 +95,21 @@ TEST(Meshing, Gp3OnACloudWhosePointsAreAllCopiedMeshesTheDistinctPoints) {
   EXPECT_EQ(b.faces, a.faces);
 }
 
+// Too few usable normals: the error says how many points had one and why a normal can be missing.
+TEST(Meshing, ACloudWithoutThreeUsableNormalsIsRefusedWithTheCount) {
+  PointCloud c = sampled_sphere(50);
+  estimate_normals(c, NormalOptions{});
+  for (std::size_t i = 2; i < c.size(); ++i) c.normals[i] = Vec3::Zero();  // as when no plane could be fitted
+  const CloudScale s = measure_scale(c);
+  try {
+    triangulate_gp3(c, Gp3Options{}, s);
+    FAIL() << "meshed a cloud with two usable normals";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 of the 50 points have a usable normal"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("normal_neighbours"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Meshing, OrganizedGridWithHoles) {
   PointCloud c;
   c.width = 20;

@@ -43,7 +43,12 @@ pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& cloud, std
     pc->push_back(q);
     index.push_back(static_cast<int>(i));
   }
-  if (pc->size() < 3) throw InputError("meshing: fewer than 3 points with coordinates and normals");
+  if (pc->size() < 3)
+    throw InputError("meshing: " + std::to_string(pc->size()) + " of the " + std::to_string(cloud.size()) +
+                     " points have a usable normal (finite, not zero), at least 3 are needed" +
+                     (cloud.size() < 3 ? std::string(": the cloud is too small to mesh")
+                                       : std::string(": a normal needs a plane through the point's neighbours (normal_neighbours), "
+                                                     "so a handful of points, or points on one line, have none")));
   return pc;
 }
 
