@@ -1,5 +1,5 @@
-// A PLY file's binary body read a chunk at a time (read_ply_file), and OBJ and OFF files read a block of
-// lines at a time (read_obj_file, read_off_file), what read_mesh does for big files, give what reading
+// A PLY file's body read a chunk at a time (read_ply_file; a text body a block of whole lines at a time),
+// and OBJ and OFF files read a block of lines at a time (read_obj_file, read_off_file), what read_mesh does for big files, give what reading
 // the whole file gives: the same mesh, warnings and errors (line numbers included), at any chunk size.
 #include <gtest/gtest.h>
 
@@ -51,12 +51,21 @@ TEST_F(ChunkedReading, BinaryBodiesReadInChunksGiveTheSameMesh) {
   // The body cut in the middle of a face: the same "truncated" error.
   const std::string bytes = read_file(file);
   expect_same(write("cut.ply", bytes.substr(0, bytes.size() - 7)));
-  // A header whose counts the file cannot hold, and a text body (read whole).
+  // A header whose counts the file cannot hold, and a text body (read a block of whole lines at a time),
+  // whole, with a bad index on its last line, and without the newline at its end.
   std::string lying = bytes;
   lying.replace(lying.find("element face ") + 13, 4, "9999");
   expect_same(write("lying.ply", lying));
   write_mesh(m, path("text.ply"), WriteOptions{false});
   expect_same(path("text.ply"));
+  std::string text = read_file(path("text.ply"));
+  ASSERT_EQ(text.back(), '\n');
+  expect_same(write("text-no-newline.ply", text.substr(0, text.size() - 1)));
+  const std::size_t last = text.rfind('\n', text.size() - 2) + 1;
+  text.replace(last, text.size() - last, "3 0 1 999999\n");
+  expect_same(write("text-bad-index.ply", text));
+  EXPECT_NE(outcome([&](auto& w) { return detail::read_ply_file(path("text-bad-index.ply"), w, true, nullptr, 64); }).find("999999"),
+            std::string::npos);
   EXPECT_NE(outcome([&](auto& w) { return detail::read_ply_file(path("cut.ply"), w, true, nullptr, 64); }).find("truncated"), std::string::npos);
 }
 

@@ -20,15 +20,13 @@ Mesh read_off_file(const std::string& path, std::vector<std::string>& warnings, 
 /// More of a PLY file's binary body: called with the number of unread bytes at the end of the current
 /// window, returns a new window starting with them (shorter than asked at the end of the file).
 using PlyRefill = std::function<std::string_view(std::size_t keep)>;
-/// Thrown by read_ply when it was given a refill but the body is text (read the whole file instead).
-struct PlyNeedsWholeFile {};
 
 /// With `refill`, `data` holds the start of the file (at least its header), `file_size` its full size
-/// (for the checks of the header's counts), and the binary body comes through `refill`.
+/// (for the checks of the header's counts), and the body (binary or text) comes through `refill`.
 Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::string>& warnings,
               bool require_faces = true, RangeGrid* grid = nullptr, std::size_t file_size = 0,
               const PlyRefill* refill = nullptr);
-/// Reads a PLY file from disk; a binary body is read in chunks of `chunk_bytes` rather than as a whole.
+/// Reads a PLY file from disk; the body is read in chunks of `chunk_bytes` rather than as a whole.
 Mesh read_ply_file(const std::string& path, std::vector<std::string>& warnings, bool require_faces = true,
                    RangeGrid* grid = nullptr, std::size_t chunk_bytes = std::size_t{4} << 20);
 Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::string>& warnings);

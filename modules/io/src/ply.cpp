@@ -88,16 +88,25 @@ T load(const char* p, bool swap) {
   return v;
 }
 
-// Reads values from either the text or the binary body of a PLY file. The binary body is read through a
-// window: all of it when the file is in memory, else a chunk at a time (`refill`).
+// Reads values from either the text or the binary body of a PLY file, through a window: all of the body
+// when the file is in memory, else a chunk at a time (`refill`). A text body is scanned (by `text`, which
+// also reports errors with their line numbers) up to the window's last whole line, so no number is cut
+// in two; the unfinished line is kept for the next window.
 class ValueReader {
  public:
   ValueReader(std::string_view window, const PlyRefill* refill, Encoding enc, TextScanner& text)
-      : window_(window), refill_(refill), enc_(enc), text_(text) {}
+      : window_(window), refill_(refill), enc_(enc), text_(text) {
+    if (enc_ == Encoding::ascii && refill_ != nullptr) {
+      const std::size_t nl = window_.rfind('\n');
+      line_end_ = nl == std::string_view::npos ? 0 : nl + 1;
+      text_.limit(text_.position() + line_end_);
+    }
+  }
 
   double read(ScalarType t, const Element& e, long long item) {
     if (enc_ == Encoding::ascii) {
-      const std::string_view tok = text_.any_token(false);
+      std::string_view tok = text_.any_token(false);
+      while (tok.empty() && next_lines()) tok = text_.any_token(false);
       if (tok.empty()) text_.fail("file ends while reading " + what(e, item) + " (truncated?)");
       double v = 0.0;
       const auto st = TextScanner::parse_number(tok, v);
@@ -134,8 +143,33 @@ class ValueReader {
   static std::string what(const Element& e, long long item) {
     return e.name + " " + std::to_string(item) + " of " + std::to_string(e.count);
   }
+  // A streamed text body: the next window's whole lines (with the last window's unfinished line in
+  // front) handed to the scanner; false when the file has no more.
+  bool next_lines() {
+    if (refill_ == nullptr || text_done_) return false;
+    std::size_t keep = window_.size() - line_end_;
+    for (;;) {
+      window_ = (*refill_)(keep);
+      if (window_.size() == keep) {  // the end of the file: its last line has no newline
+        text_done_ = true;
+        line_end_ = window_.size();
+        break;
+      }
+      // Only the new bytes can hold a newline (the kept ones are one unfinished line).
+      const std::size_t nl = window_.substr(keep).rfind('\n');
+      if (nl != std::string_view::npos) {
+        line_end_ = keep + nl + 1;
+        break;
+      }
+      keep = window_.size();  // a line longer than the chunk: read on
+    }
+    text_.continue_on(window_.substr(0, line_end_));
+    return line_end_ > 0;
+  }
   std::string_view window_;
   std::size_t pos_ = 0;
+  std::size_t line_end_ = 0;  // text body: the window's whole lines end here
+  bool text_done_ = false;
   const PlyRefill* refill_;
   Encoding enc_;
   TextScanner& text_;
@@ -198,7 +232,6 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
     s.skip_line();
   }
   if (!have_format) s.fail("header has no 'format' line");
-  if (refill != nullptr && enc == Encoding::ascii) throw PlyNeedsWholeFile{};
 
   // Every element must fit in the bytes after the header before anything is allocated for it: a binary
   // item takes at least the sizes of its scalars and list counts, a text value at least two characters.
@@ -367,11 +400,7 @@ Mesh read_ply_file(const std::string& path, std::vector<std::string>& warnings, 
     window = chunks.next(window.size());
   }
   const PlyRefill refill = [&](std::size_t keep) { return chunks.next(keep); };
-  try {
-    return read_ply(window, path, warnings, require_faces, grid, size, &refill);
-  } catch (const PlyNeedsWholeFile&) {
-    return whole();
-  }
+  return read_ply(window, path, warnings, require_faces, grid, size, &refill);
 }
 
 }  // namespace scanmesh::detail

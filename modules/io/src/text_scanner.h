@@ -20,6 +20,13 @@ class TextScanner {
       : text_(text), file_(std::move(file)), line_(first_line) {}
 
   [[nodiscard]] bool at_end() const { return pos_ >= text_.size(); }
+  /// Ends the text at `end` (a streamed file's window up to its last whole line).
+  void limit(std::size_t end) { text_ = text_.substr(0, std::max(end, pos_)); }
+  /// Goes on in `text`, the next block of the same file: from its start, the line count carried on.
+  void continue_on(std::string_view text) {
+    text_ = text;
+    pos_ = 0;
+  }
   [[nodiscard]] std::size_t line() const { return line_; }
   [[nodiscard]] std::size_t position() const { return pos_; }
   [[nodiscard]] const std::string& file() const { return file_; }
