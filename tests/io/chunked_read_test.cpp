@@ -1,5 +1,6 @@
 // A PLY file's body read a chunk at a time (read_ply_file; a text body a block of whole lines at a time),
-// and OBJ and OFF files read a block of lines at a time (read_obj_file, read_off_file), what read_mesh does for big files, give what reading
+// OBJ and OFF files read a block of lines at a time (read_obj_file, read_off_file) and binary STL files a
+// chunk of whole triangles at a time (read_stl_file), what read_mesh does for big files, give what reading
 // the whole file gives: the same mesh, warnings and errors (line numbers included), at any chunk size.
 #include <gtest/gtest.h>
 
@@ -155,8 +156,35 @@ TEST_F(ChunkedReading, OffReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
   EXPECT_NE(same("empty.off", "OFF\n# nothing\n").find("counts"), std::string::npos);
 }
 
+TEST_F(ChunkedReading, BinaryStlReadInChunksOfWholeTrianglesGivesTheSameMesh) {
+  auto same = [&](const std::string& name, const std::string& bytes) {
+    const std::string file = write(name, bytes);
+    const std::string whole = outcome([&](auto& w) { return detail::read_stl(read_file(file), file, w); });
+    for (std::size_t chunk : {16, 37, 97, 1000, 1 << 20})
+      EXPECT_EQ(outcome([&](auto& w) { return detail::read_stl_file(file, w, chunk); }), whole) << name << " " << chunk;
+    return whole;
+  };
+  const Mesh sphere = test::make_sphere(3);
+  const std::string binary = encode_mesh(sphere, ".stl");
+  ASSERT_GT(binary.size(), 20000u);  // many chunks
+  const std::string welded = same("sphere.stl", binary);
+  EXPECT_EQ(welded.find("error"), std::string::npos);
+  // The corners are welded across chunks: the sphere's vertices and faces come back.
+  std::vector<std::string> warnings;
+  const Mesh read = detail::read_stl_file(path("sphere.stl"), warnings, 37);
+  EXPECT_EQ(read.num_vertices(), sphere.num_vertices());
+  EXPECT_EQ(read.num_faces(), sphere.num_faces());
+  // A count the size does not explain, a count of zero, a text STL, too short a file: read whole.
+  std::string lying = binary;
+  lying[80] = static_cast<char>(lying[80] + 1);
+  EXPECT_NE(same("lying.stl", lying).find("error"), std::string::npos);
+  EXPECT_NE(same("empty.stl", binary.substr(0, 80) + std::string(4, '\0')).find("no triangles"), std::string::npos);
+  same("text.stl", encode_mesh(sphere, ".stl", WriteOptions{false}));
+  same("short.stl", binary.substr(0, 50));
+}
+
 TEST_F(ChunkedReading, MutatedFilesGiveTheSameOutcomeInChunksAsWhole) {
-  // Truncated, byte-flipped and number-swapped PLY (binary and text), OBJ and OFF files: the chunked readers
+  // Truncated, byte-flipped and number-swapped PLY (binary and text), OBJ, OFF and binary STL files: the chunked readers
   // load the same mesh or fail with the same message as the whole-file readers.
   const Mesh m = test::make_sphere(2);
   std::vector<std::pair<std::string, std::string>> valid;
@@ -164,6 +192,7 @@ TEST_F(ChunkedReading, MutatedFilesGiveTheSameOutcomeInChunksAsWhole) {
   valid.emplace_back(".ply", encode_mesh(m, ".ply", WriteOptions{false}));
   valid.emplace_back(".obj", encode_mesh(m, ".obj"));
   valid.emplace_back(".off", encode_mesh(m, ".off"));
+  valid.emplace_back(".stl", encode_mesh(m, ".stl"));
   int compared = 0;
   for (const auto& entry : valid) {
     const std::string& ext = entry.first;  // not a structured binding: lambdas below capture it (C++17)
@@ -183,17 +212,19 @@ TEST_F(ChunkedReading, MutatedFilesGiveTheSameOutcomeInChunksAsWhole) {
       const std::string file = write("m" + ext, bytes);
       const std::string whole = outcome([&](auto& w) {
         if (ext == ".ply") return detail::read_ply(read_file(file), file, w);
+        if (ext == ".stl") return detail::read_stl(read_file(file), file, w);
         return ext == ".obj" ? detail::read_obj(read_file(file), file, w) : detail::read_off(read_file(file), file, w);
       });
       const std::string chunked = outcome([&](auto& w) {
         if (ext == ".ply") return detail::read_ply_file(file, w, true, nullptr, 64);
+        if (ext == ".stl") return detail::read_stl_file(file, w, 64);
         return ext == ".obj" ? detail::read_obj_file(file, w, 16) : detail::read_off_file(file, w, 16);
       });
       EXPECT_EQ(chunked, whole) << ext << " round " << round;
       ++compared;
     }
   }
-  EXPECT_EQ(compared, 360);
+  EXPECT_EQ(compared, 450);
 }
 
 }  // namespace

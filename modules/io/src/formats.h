@@ -30,6 +30,8 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
 Mesh read_ply_file(const std::string& path, std::vector<std::string>& warnings, bool require_faces = true,
                    RangeGrid* grid = nullptr, std::size_t chunk_bytes = std::size_t{4} << 20);
 Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
+/// Reads an STL file from disk; a binary one a chunk of whole triangle records at a time, a text one whole.
+Mesh read_stl_file(const std::string& path, std::vector<std::string>& warnings, std::size_t chunk_bytes = std::size_t{4} << 20);
 
 // Writers hand their file to `sink` in pieces of about a megabyte.
 void write_obj(const Mesh& mesh, const ByteSink& sink);

@@ -39,8 +39,8 @@ bool is_mesh_extension(const std::string& ext) {
 
 namespace {
 
-// Files up to this size are read whole; bigger OBJ and OFF files are read a block of lines at a time,
-// bigger PLY files stream their binary body.
+// Files up to this size are read whole; bigger OBJ and OFF files and PLY bodies are read a block of
+// whole lines or a chunk at a time, as are binary STL files.
 constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
 
 // What every mesh read passes: indices in range, finite coordinates, at least one face.
@@ -57,13 +57,13 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   if (!is_mesh_extension(ext))
     throw InputError("'" + path + "': unknown mesh format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .obj .off .ply .stl");
-  // A big OBJ or OFF file, or a big PLY file's binary body, is read in chunks rather than held whole
-  // next to the mesh.
+  // A big file is read in chunks rather than held whole next to the mesh.
   std::error_code ec;
-  if (ext != ".stl" && std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
+  if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
     std::vector<std::string> local;
     std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
     if (ext == ".ply") return checked(detail::read_ply_file(path, w), path);
+    if (ext == ".stl") return checked(detail::read_stl_file(path, w), path);
     return checked(ext == ".obj" ? detail::read_obj_file(path, w) : detail::read_off_file(path, w), path);
   }
   return decode_mesh(read_file(path), path, warnings);

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <unordered_map>
 
+#include "file_chunks.h"
 #include "formats.h"
 #include "text_scanner.h"
 
@@ -39,12 +41,10 @@ class Welder {
   std::unordered_map<Vec3, int, PointHash> index_;
 };
 
-Mesh read_binary_stl(std::string_view data, const std::string& file, std::uint32_t n) {
-  Mesh mesh;
-  Welder weld(mesh);
-  mesh.faces.reserve(n);
-  for (std::uint32_t t = 0; t < n; ++t) {
-    const char* p = data.data() + 84 + 50 * static_cast<std::size_t>(t) + 12;
+// Adds the triangles of whole 50-byte binary records (normal, three corners, attribute bytes).
+void add_binary_records(std::string_view records, Welder& weld, Mesh& mesh) {
+  for (std::size_t at = 0; at + 50 <= records.size(); at += 50) {
+    const char* p = records.data() + at + 12;
     Face f;
     for (int k = 0; k < 3; ++k) {
       float xyz[3];
@@ -53,7 +53,13 @@ Mesh read_binary_stl(std::string_view data, const std::string& file, std::uint32
     }
     mesh.faces.push_back(f);
   }
-  (void)file;
+}
+
+Mesh read_binary_stl(std::string_view data, std::uint32_t n) {
+  Mesh mesh;
+  Welder weld(mesh);
+  mesh.faces.reserve(n);
+  add_binary_records(data.substr(84, 50 * static_cast<std::size_t>(n)), weld, mesh);
   return mesh;
 }
 
@@ -99,7 +105,7 @@ Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::s
     std::memcpy(&n, data.data() + 80, 4);
     if (84 + 50 * static_cast<std::uint64_t>(n) == data.size()) {
       if (n == 0) throw InputError(file + ": binary STL contains no triangles");
-      return read_binary_stl(data, file, n);
+      return read_binary_stl(data, n);
     }
   }
   std::size_t i = 0;
@@ -124,6 +130,36 @@ Mesh read_stl(std::string_view data, const std::string& file, std::vector<std::s
   }
   throw InputError(file + ": not a valid STL: too short for binary STL (" + std::to_string(data.size()) +
                    " bytes) and not ASCII STL");
+}
+
+Mesh read_stl_file(const std::string& path, std::vector<std::string>& warnings, std::size_t chunk_bytes) {
+  auto whole = [&] { return read_stl(read_file(path), path, warnings); };
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec || size < 84) return whole();  // read_file / read_stl say what is wrong
+  FileChunks chunks(path, chunk_bytes);
+  std::string_view window = chunks.next(0);
+  while (window.size() < 84 && chunks.fresh() > 0) window = chunks.next(window.size());
+  if (window.size() < 84) return whole();
+  std::uint32_t n;
+  std::memcpy(&n, window.data() + 80, 4);
+  // Only a binary file whose size its triangle count explains streams (what read_stl takes as binary);
+  // everything else, text STL included, is read whole.
+  if (n == 0 || 84 + 50 * static_cast<std::uint64_t>(n) != size) return whole();
+  Mesh mesh;
+  Welder weld(mesh);
+  mesh.faces.reserve(n);
+  std::size_t start = 84;
+  for (;;) {
+    const std::size_t whole_records = (window.size() - start) / 50 * 50;
+    add_binary_records(window.substr(start, whole_records), weld, mesh);
+    const std::size_t keep = window.size() - start - whole_records;
+    window = chunks.next(keep);
+    start = 0;
+    if (chunks.fresh() == 0) break;
+  }
+  if (mesh.faces.size() != n) throw InputError(path + ": binary STL changed while it was read (" + std::to_string(mesh.faces.size()) + " of " + std::to_string(n) + " triangles)");
+  return mesh;
 }
 
 void write_stl(const Mesh& mesh, bool binary, const ByteSink& sink) {
