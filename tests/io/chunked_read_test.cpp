@@ -34,6 +34,18 @@ class ChunkedReading : public test::TempDirTest {
     for (const auto& w : warnings) result += "|" + w;
     return result;
   }
+  // Writes `bytes` to `name` and expects `chunked` to give at every chunk size what `whole` gives for the
+  // file held in memory; returns that outcome.
+  using WholeReader = Mesh (*)(std::string_view, const std::string&, std::vector<std::string>&);
+  using ChunkedReader = Mesh (*)(const std::string&, std::vector<std::string>&, std::size_t);
+  std::string same_outcome(const std::string& name, const std::string& bytes, WholeReader whole_reader, ChunkedReader chunked,
+                           std::initializer_list<std::size_t> chunks) {
+    const std::string file = write(name, bytes);
+    const std::string whole = outcome([&](auto& w) { return whole_reader(read_file(file), file, w); });
+    for (std::size_t chunk : chunks)
+      EXPECT_EQ(outcome([&](auto& w) { return chunked(file, w, chunk); }), whole) << name << " " << chunk;
+    return whole;
+  }
   void expect_same(const std::string& file) {
     const std::string whole = outcome([&](auto& w) { return detail::read_ply(read_file(file), file, w); });
     for (std::size_t chunk : {64, 97, 1000, 1 << 20})
@@ -98,11 +110,7 @@ TEST_F(ChunkedReading, TriangleStripsAndSkippedElements) {
 
 TEST_F(ChunkedReading, ObjReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
   auto same = [&](const std::string& name, const std::string& text) {
-    const std::string file = write(name, text);
-    const std::string whole = outcome([&](auto& w) { return detail::read_obj(read_file(file), file, w); });
-    for (std::size_t chunk : {16, 37, 1000})
-      EXPECT_EQ(outcome([&](auto& w) { return detail::read_obj_file(file, w, chunk); }), whole) << name << " " << chunk;
-    return whole;
+    return same_outcome(name, text, detail::read_obj, detail::read_obj_file, {16, 37, 1000});
   };
   // Colours, comments, blank lines, CRLF, vt/vn, a quad, negative indices, a line longer than a chunk,
   // no newline at the end.
@@ -124,11 +132,7 @@ TEST_F(ChunkedReading, ObjReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
 
 TEST_F(ChunkedReading, OffReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
   auto same = [&](const std::string& name, const std::string& text) {
-    const std::string file = write(name, text);
-    const std::string whole = outcome([&](auto& w) { return detail::read_off(read_file(file), file, w); });
-    for (std::size_t chunk : {16, 37, 1000})
-      EXPECT_EQ(outcome([&](auto& w) { return detail::read_off_file(file, w, chunk); }), whole) << name << " " << chunk;
-    return whole;
+    return same_outcome(name, text, detail::read_off, detail::read_off_file, {16, 37, 1000});
   };
   // Comments, blank lines, CRLF, colours, a vertex whose coordinates run over three lines (blocks end
   // inside it), a quad, a line longer than a chunk, no newline at the end.
@@ -158,11 +162,7 @@ TEST_F(ChunkedReading, OffReadInBlocksOfLinesGivesTheSameMeshAndErrors) {
 
 TEST_F(ChunkedReading, BinaryStlReadInChunksOfWholeTrianglesGivesTheSameMesh) {
   auto same = [&](const std::string& name, const std::string& bytes) {
-    const std::string file = write(name, bytes);
-    const std::string whole = outcome([&](auto& w) { return detail::read_stl(read_file(file), file, w); });
-    for (std::size_t chunk : {16, 37, 97, 1000, 1 << 20})
-      EXPECT_EQ(outcome([&](auto& w) { return detail::read_stl_file(file, w, chunk); }), whole) << name << " " << chunk;
-    return whole;
+    return same_outcome(name, bytes, detail::read_stl, detail::read_stl_file, {16, 37, 97, 1000, 1 << 20});
   };
   const Mesh sphere = test::make_sphere(3);
   const std::string binary = encode_mesh(sphere, ".stl");
