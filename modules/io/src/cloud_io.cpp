@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cloud_formats.h"
+#include "formats.h"
 #include "scanmesh/atomic_file.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/mesh_io.h"
@@ -18,10 +19,12 @@ namespace {
 
 // Beyond this the cloud stages (PCL, single precision) cannot square distances.
 constexpr double kMaxCoordinate = 1e18;
+// Files up to this size are read whole (as read_mesh does); a bigger PLY cloud streams its body.
+constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
 
-PointCloud ply_cloud(std::string_view data, const std::string& file, std::vector<std::string>& warnings) {
-  RangeGrid grid;
-  const Mesh m = decode_ply_points(data, file, &warnings, &grid);
+// The cloud of a PLY file read as a mesh's vertices (`grid`: its range grid, if it has one). The mesh is
+// taken apart as the cloud is built, so the points are not held twice.
+PointCloud ply_cloud(Mesh m, const RangeGrid& grid) {
   PointCloud cloud;
   const VertexProperty* n[3] = {m.find_property("nx"), m.find_property("ny"), m.find_property("nz")};
   const VertexProperty* c[3] = {m.find_property("red"), m.find_property("green"), m.find_property("blue")};
@@ -35,7 +38,19 @@ PointCloud ply_cloud(std::string_view data, const std::string& file, std::vector
                                static_cast<std::uint8_t>(std::clamp(c[2]->values[i], 0.0, 255.0))});
   };
   if (grid.cols == 0) {
-    for (std::size_t i = 0; i < m.positions.size(); ++i) add(i);
+    const std::size_t count = m.positions.size();
+    cloud.points = std::move(m.positions);
+    if (normals) {
+      cloud.normals.reserve(count);
+      for (std::size_t i = 0; i < count; ++i) cloud.normals.emplace_back(n[0]->values[i], n[1]->values[i], n[2]->values[i]);
+    }
+    if (colours) {
+      cloud.colours.reserve(count);
+      for (std::size_t i = 0; i < count; ++i)
+        cloud.colours.push_back({static_cast<std::uint8_t>(std::clamp(c[0]->values[i], 0.0, 255.0)),
+                                 static_cast<std::uint8_t>(std::clamp(c[1]->values[i], 0.0, 255.0)),
+                                 static_cast<std::uint8_t>(std::clamp(c[2]->values[i], 0.0, 255.0))});
+    }
     cloud.width = static_cast<int>(cloud.points.size());
     return cloud;
   }
@@ -57,6 +72,12 @@ PointCloud ply_cloud(std::string_view data, const std::string& file, std::vector
     cloud.height = 1;
   }
   return cloud;
+}
+
+PointCloud ply_cloud(std::string_view data, const std::string& file, std::vector<std::string>& warnings) {
+  RangeGrid grid;
+  Mesh m = decode_ply_points(data, file, &warnings, &grid);
+  return ply_cloud(std::move(m), grid);
 }
 
 // Every coordinate finite (NaN = no measurement) and within what the stages can process.
@@ -149,8 +170,17 @@ PointCloud read_cloud(const std::string& path, std::vector<std::string>* warning
   if (!is_cloud_extension(ext))
     throw InputError("'" + path + "': unknown point-cloud format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .pcd .ply .xyz .txt .csv .pts");
-  const std::string data = read_file(path);
-  PointCloud cloud = decode_cloud(data, path, &w, options);
+  PointCloud cloud;
+  if (ext == ".ply" && fs::is_regular_file(path, ec) && fs::file_size(path, ec) > kWholeFileLimit && !ec) {
+    // A big PLY cloud's body is read a chunk at a time rather than held whole next to the points.
+    RangeGrid grid;
+    Mesh m = detail::read_ply_file(path, w, false, &grid);
+    if (m.positions.empty()) throw InputError("'" + path + "': contains no vertices");
+    cloud = ply_cloud(std::move(m), grid);
+    check_points(cloud, path);
+  } else {
+    cloud = decode_cloud(read_file(path), path, &w, options);
+  }
   if (ext == ".ply" && cloud.organized()) {
     // A Stanford range scan: its pose is in a .conf beside it.
     const fs::path scan(path);
