@@ -3,6 +3,7 @@
 #include "scanmesh/cloud_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -19,41 +20,37 @@ namespace {
 
 // Beyond this the cloud stages (PCL, single precision) cannot square distances.
 constexpr double kMaxCoordinate = 1e18;
-// Files up to this size are read whole (as read_mesh does); a bigger PLY cloud streams its body.
-constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
 
-// The cloud of a PLY file read as a mesh's vertices (`grid`: its range grid, if it has one). The mesh is
-// taken apart as the cloud is built, so the points are not held twice.
+// The cloud of a PLY file read as a mesh's vertices (`grid`: its range grid, if it has one). An
+// unorganized cloud takes the mesh's positions over, so the points are not held twice.
 PointCloud ply_cloud(Mesh m, const RangeGrid& grid) {
   PointCloud cloud;
   const VertexProperty* n[3] = {m.find_property("nx"), m.find_property("ny"), m.find_property("nz")};
   const VertexProperty* c[3] = {m.find_property("red"), m.find_property("green"), m.find_property("blue")};
   const bool normals = n[0] && n[1] && n[2], colours = c[0] && c[1] && c[2];
-  auto add = [&](std::size_t i) {
-    cloud.points.push_back(m.positions[i]);
-    if (normals) cloud.normals.emplace_back(n[0]->values[i], n[1]->values[i], n[2]->values[i]);
-    if (colours)
-      cloud.colours.push_back({static_cast<std::uint8_t>(std::clamp(c[0]->values[i], 0.0, 255.0)),
-                               static_cast<std::uint8_t>(std::clamp(c[1]->values[i], 0.0, 255.0)),
-                               static_cast<std::uint8_t>(std::clamp(c[2]->values[i], 0.0, 255.0))});
+  auto normal = [&](std::size_t i) { return Vec3(n[0]->values[i], n[1]->values[i], n[2]->values[i]); };
+  auto colour = [&](std::size_t i) {
+    return std::array<std::uint8_t, 3>{static_cast<std::uint8_t>(std::clamp(c[0]->values[i], 0.0, 255.0)),
+                                       static_cast<std::uint8_t>(std::clamp(c[1]->values[i], 0.0, 255.0)),
+                                       static_cast<std::uint8_t>(std::clamp(c[2]->values[i], 0.0, 255.0))};
   };
   if (grid.cols == 0) {
     const std::size_t count = m.positions.size();
     cloud.points = std::move(m.positions);
-    if (normals) {
-      cloud.normals.reserve(count);
-      for (std::size_t i = 0; i < count; ++i) cloud.normals.emplace_back(n[0]->values[i], n[1]->values[i], n[2]->values[i]);
-    }
-    if (colours) {
-      cloud.colours.reserve(count);
-      for (std::size_t i = 0; i < count; ++i)
-        cloud.colours.push_back({static_cast<std::uint8_t>(std::clamp(c[0]->values[i], 0.0, 255.0)),
-                                 static_cast<std::uint8_t>(std::clamp(c[1]->values[i], 0.0, 255.0)),
-                                 static_cast<std::uint8_t>(std::clamp(c[2]->values[i], 0.0, 255.0))});
+    if (normals) cloud.normals.reserve(count);
+    if (colours) cloud.colours.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      if (normals) cloud.normals.push_back(normal(i));
+      if (colours) cloud.colours.push_back(colour(i));
     }
     cloud.width = static_cast<int>(cloud.points.size());
     return cloud;
   }
+  auto add = [&](std::size_t i) {
+    cloud.points.push_back(m.positions[i]);
+    if (normals) cloud.normals.push_back(normal(i));
+    if (colours) cloud.colours.push_back(colour(i));
+  };
   // A range image: one point per grid cell, NaN where the scanner saw nothing.
   const double nan = std::nan("");
   for (int cell : grid.cells) {
@@ -171,7 +168,7 @@ PointCloud read_cloud(const std::string& path, std::vector<std::string>* warning
     throw InputError("'" + path + "': unknown point-cloud format '" + (ext.empty() ? std::string("(no extension)") : ext) +
                      "'; supported: .pcd .ply .xyz .txt .csv .pts");
   PointCloud cloud;
-  if (ext == ".ply" && fs::is_regular_file(path, ec) && fs::file_size(path, ec) > kWholeFileLimit && !ec) {
+  if (ext == ".ply" && fs::is_regular_file(path, ec) && fs::file_size(path, ec) > detail::kWholeFileLimit && !ec) {
     // A big PLY cloud's body is read a chunk at a time rather than held whole next to the points.
     RangeGrid grid;
     Mesh m = detail::read_ply_file(path, w, false, &grid);

@@ -1,5 +1,6 @@
 #pragma once
 // Per-format readers and writers behind read_mesh / encode_mesh.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -10,6 +11,10 @@
 #include "scanmesh/mesh_io.h"
 
 namespace scanmesh::detail {
+
+/// Files up to this size are read whole; bigger ones are read a block of whole lines or a chunk at a time
+/// (the *_file readers below), so the file is not held next to what is read from it.
+constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
 
 Mesh read_obj(std::string_view data, const std::string& file, std::vector<std::string>& warnings);
 /// Reads an OBJ file from disk a block of whole lines (about `chunk_bytes`) at a time.

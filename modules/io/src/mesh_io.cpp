@@ -39,10 +39,6 @@ bool is_mesh_extension(const std::string& ext) {
 
 namespace {
 
-// Files up to this size are read whole; bigger OBJ and OFF files and PLY bodies are read a block of
-// whole lines or a chunk at a time, as are binary STL files.
-constexpr std::uintmax_t kWholeFileLimit = std::uintmax_t{16} << 20;
-
 // What every mesh read passes: indices in range, finite coordinates, at least one face.
 Mesh checked(Mesh mesh, const std::string& path) {
   validate_mesh(mesh, "'" + path + "'");
@@ -59,7 +55,7 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
                      "'; supported: .obj .off .ply .stl");
   // A big file is read in chunks rather than held whole next to the mesh.
   std::error_code ec;
-  if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > kWholeFileLimit && !ec) {
+  if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > detail::kWholeFileLimit && !ec) {
     std::vector<std::string> local;
     std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
     if (ext == ".ply") return checked(detail::read_ply_file(path, w), path);
