@@ -246,6 +246,25 @@ TEST_F(CloudIo, CloudFilesAreTheBytesOfEncodeCloud) {
   EXPECT_EQ(read_cloud(path("s.ply")).points, c.points);
 }
 
+// PCD stores floats, which would round a georeferenced cloud (UTM: 4e6 m north) to decimetres: such a cloud
+// is written with x y z as doubles and reads back exactly; a cloud near the origin keeps PCL's floats.
+TEST_F(CloudIo, PcdKeepsGeoreferencedCoordinates) {
+  PointCloud far = plane_cloud(12, 0.1, 0.01, 5);
+  for (Vec3& p : far.points) p += Vec3(512345.678, 4123456.789, 251.5);
+  far.normals.assign(far.size(), Vec3(0, 0.6, 0.8));
+  far.sensor_origin = Vec3(512340.125, 4123450.0625, 300.5);
+  write_cloud_pcd(far, path("far.pcd"));
+  EXPECT_NE(read_file(path("far.pcd")).find("\nSIZE 8 8 8 4 4 4\n"), std::string::npos);
+  const PointCloud back = read_cloud(path("far.pcd"));
+  EXPECT_EQ(back.points, far.points);
+  ASSERT_TRUE(back.sensor_origin.has_value());
+  EXPECT_EQ(*back.sensor_origin, *far.sensor_origin);
+  EXPECT_EQ(back.normals.size(), far.size());
+  PointCloud near = plane_cloud(12, 0.1, 0.01, 5);
+  write_cloud_pcd(near, path("near.pcd"));
+  EXPECT_NE(read_file(path("near.pcd")).find("\nSIZE 4 4 4\n"), std::string::npos);
+}
+
 TEST_F(CloudIo, BadCloudsGiveClearErrors) {
   auto expect_error = [&](const std::string& file, const std::string& needle) {
     try {

@@ -73,6 +73,45 @@ TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
   EXPECT_TRUE(merged.normals_oriented);  // directions to each view's sensor, as orientation hints
 }
 
+// Georeferenced views (UTM coordinates, where a float's step is 0.25-0.5 m) register as they do at the
+// origin: PCL gets them relative to a local origin. Two overlapping virtual scans of Fandisk, the second
+// turned by 3 degrees and shifted by 2% of the part's size, both placed at the origin and far from it.
+TEST(CombineViews, GeoreferencedViewsRegisterAsAtTheOrigin) {
+  const Mesh fandisk = read_mesh(std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj");
+  VirtualScanOptions o;
+  o.views = 12;
+  o.width = 160;
+  o.height = 120;
+  o.noise = 0.05;
+  const std::vector<PointCloud> all = virtual_scan(fandisk, o);
+  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+  for (const Vec3& p : fandisk.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 centre = 0.5 * (lo + hi);
+  const double size = (hi - lo).norm();
+  std::size_t nearest = 1;  // the view seen from the direction nearest the first's
+  const Vec3 d0 = (*all[0].sensor_origin - centre).normalized();
+  for (std::size_t k = 2; k < all.size(); ++k)
+    if (d0.dot((*all[k].sensor_origin - centre).normalized()) > d0.dot((*all[nearest].sensor_origin - centre).normalized())) nearest = k;
+  auto registered = [&](const Vec3& place) {
+    std::vector<PointCloud> views = {all[0], all[nearest]};
+    for (PointCloud& v : views) move(v, Eigen::Isometry3d(Eigen::Translation3d(place)));
+    move(views[1], Eigen::Translation3d(place) * perturbation(centre, Vec3(1, 1, 0), 3.0, Vec3(0.02 * size, 0, 0)) *
+                       Eigen::Translation3d(-place));
+    return register_views(views, RegisterOptions{})[1];
+  };
+  const Vec3 utm(512345.678, 4123456.789, 251.5);
+  const ViewAlignment here = registered(Vec3::Zero()), there = registered(utm);
+  const Eigen::Isometry3d p = perturbation(centre, Vec3(1, 1, 0), 3.0, Vec3(0.02 * size, 0, 0));
+  EXPECT_LT(Eigen::AngleAxisd((here.correction * p).linear()).angle() * 180.0 / kPi, 0.2);
+  // The same correction, moved with the views, and as close a fit (floats at UTM coordinates: rms of
+  // decimetres).
+  const Eigen::Isometry3d back = Eigen::Translation3d(-utm) * there.correction * Eigen::Translation3d(utm);
+  EXPECT_LT(Eigen::AngleAxisd((back * here.correction.inverse()).linear()).angle() * 180.0 / kPi, 0.1);
+  EXPECT_LT((back * centre - here.correction * centre).norm(), 5e-3 * size);
+  EXPECT_LT(there.rms, 1.05 * here.rms);
+  EXPECT_GT(there.overlap, 0.95 * here.overlap);
+}
+
 TEST(CombineViews, ViewsWithoutPointsAreAnError) {
   std::vector<PointCloud> views(2);
   for (int i = 0; i < 100; ++i) views[0].points.emplace_back(i * 0.01, 0.0, 0.0);

@@ -52,3 +52,13 @@ TEST(PointCloudShape, OnePositionAndOneLineHaveNoSurface) {
   c.points.assign(3, scanmesh::Vec3(std::nan(""), 0, 0));
   EXPECT_NE(scanmesh::surface_problem(c).find("no finite points"), std::string::npos);
 }
+
+TEST(PointCloud, LocalOriginIsTheCentreOfTheFinitePointsBox) {
+  using scanmesh::Vec3;
+  const double nan = std::nan("");
+  EXPECT_EQ(scanmesh::local_origin({}), Vec3::Zero());
+  EXPECT_EQ(scanmesh::local_origin({Vec3(nan, 0, 0)}), Vec3::Zero());
+  const std::vector<Vec3> pts = {Vec3(512340.0, 4123450.0, 250.0), Vec3(nan, 1e9, 0), Vec3(512350.0, 4123470.0, 251.0),
+                                 Vec3(512345.0, 4123460.0, 254.0)};
+  EXPECT_EQ(scanmesh::local_origin(pts), Vec3(512345.0, 4123460.0, 252.0));
+}

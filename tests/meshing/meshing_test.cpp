@@ -130,6 +130,58 @@ TEST(Meshing, OrganizedGridWithHoles) {
   EXPECT_EQ(topology_stats(m).boundary_loops, 3u);  // the outline, the 2x2 hole and the single hole
 }
 
+// Georeferenced scans (UTM: 5e5 m east, 4e6 m north) mesh as they do at the origin. PCL holds points in
+// single precision, whose step there is 0.03-0.5 m, so they go to it relative to a local origin.
+// Coordinates on a grid of 2^-12 and an offset of powers of two make adding the offset exact: the run
+// at the offset must give the same normals and faces, and positions moved by the offset.
+TEST(Meshing, AGeoreferencedCloudMeshesAsItDoesAtTheOrigin) {
+  const Vec3 offset(524288.0, 4194304.0, 256.0);
+  PointCloud here = sampled_sphere(3000);
+  for (Vec3& p : here.points) p = (p * 4096.0).array().round() / 4096.0;
+  PointCloud there = here;
+  for (Vec3& p : there.points) p += offset;
+  OutlierOptions strict;
+  strict.std_ratio = 1.0;  // removes some points, the same ones wherever the cloud lies
+  remove_outliers(here, strict, measure_scale(here));
+  remove_outliers(there, strict, measure_scale(there));
+  ASSERT_LT(here.size(), 3000u);
+  ASSERT_EQ(there.size(), here.size());
+  estimate_normals(here, NormalOptions{});
+  estimate_normals(there, NormalOptions{});
+  EXPECT_EQ(there.normals, here.normals);
+  const Mesh a = triangulate_gp3(here, Gp3Options{}, measure_scale(here));
+  const Mesh b = triangulate_gp3(there, Gp3Options{}, measure_scale(there));
+  ASSERT_GT(a.num_faces(), 4000u);
+  EXPECT_EQ(b.faces, a.faces);
+  ASSERT_EQ(b.num_vertices(), a.num_vertices());
+  for (std::size_t v = 0; v < a.num_vertices(); ++v) ASSERT_EQ(b.positions[v], a.positions[v] + offset) << v;
+  // Poisson's vertices are new points: they come back at the offset.
+  PoissonOptions po;
+  po.watertight = true;
+  const Mesh pa = triangulate_poisson(here, po, measure_scale(here));
+  const Mesh pb = triangulate_poisson(there, po, measure_scale(there));
+  ASSERT_GT(pa.num_faces(), 1000u);
+  EXPECT_EQ(pb.faces, pa.faces);
+  ASSERT_EQ(pb.num_vertices(), pa.num_vertices());
+  double worst = 0.0;
+  for (std::size_t v = 0; v < pa.num_vertices(); ++v) worst = std::max(worst, (pb.positions[v] - offset - pa.positions[v]).norm());
+  EXPECT_LT(worst, 1e-9);
+  // An organized grid and its sensor.
+  PointCloud grid;
+  grid.width = 20;
+  grid.height = 15;
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i) grid.points.emplace_back(i / 128.0, j / 128.0, 1.0 + ((i * j) % 3) / 512.0);
+  grid.sensor_origin = Vec3::Zero();
+  PointCloud far_grid = grid;
+  for (Vec3& p : far_grid.points) p += offset;
+  far_grid.sensor_origin = offset;
+  const Mesh ga = triangulate_organized(grid, OrganizedOptions{}, measure_scale(grid));
+  const Mesh gb = triangulate_organized(far_grid, OrganizedOptions{}, measure_scale(far_grid));
+  ASSERT_GT(ga.num_faces(), 400u);
+  EXPECT_EQ(gb.faces, ga.faces);
+}
+
 TEST(Meshing, PoissonIsWatertightOnASphere) {
   PointCloud c = sampled_sphere(3000);
   estimate_normals(c, NormalOptions{});

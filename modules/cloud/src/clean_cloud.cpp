@@ -35,10 +35,15 @@ std::vector<Vec3> finite_points(const PointCloud& cloud, std::vector<int>* index
   return pts;
 }
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const std::vector<Vec3>& pts) {
+// The points for PCL, relative to `origin` (local_origin: PCL's floats would round georeferenced
+// coordinates to decimetres).
+pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const std::vector<Vec3>& pts, const Vec3& origin) {
   auto c = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   c->reserve(pts.size());
-  for (const auto& p : pts) c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+  for (const auto& p : pts) {
+    const Vec3 q = p - origin;
+    c->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())));
+  }
   return c;
 }
 
@@ -226,7 +231,7 @@ void remove_outliers(PointCloud& cloud, const OutlierOptions& o, const CloudScal
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   if (pts.size() <= static_cast<std::size_t>(o.neighbours)) return;
-  auto pc = to_pcl(pts);
+  auto pc = to_pcl(pts, local_origin(pts));
   std::vector<std::uint8_t> keep(cloud.size(), 0);
   std::vector<std::uint8_t> pass(pts.size(), 1);
   if (o.std_ratio > 0.0) {
@@ -262,12 +267,13 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& o) {
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
   if (pts.size() < 3) throw InputError("normals: the cloud has fewer than 3 finite points");
-  auto pc = to_pcl(pts);
+  const Vec3 origin = local_origin(pts);
+  auto pc = to_pcl(pts, origin);
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(static_cast<unsigned>(thread_count()));
   ne.setInputCloud(pc);
   ne.setKSearch(std::min<int>(o.neighbours, static_cast<int>(pts.size()) - 1));
   if (cloud.sensor_origin) {
-    const Vec3& s = *cloud.sensor_origin;
+    const Vec3 s = *cloud.sensor_origin - origin;
     ne.setViewPoint(static_cast<float>(s.x()), static_cast<float>(s.y()), static_cast<float>(s.z()));
   }
   pcl::PointCloud<pcl::Normal> normals;
@@ -365,7 +371,8 @@ void smooth_mls(PointCloud& cloud, const MlsOptions& o, const CloudScale& scale)
   require_surface(cloud);
   std::vector<int> index;
   const std::vector<Vec3> pts = finite_points(cloud, &index);
-  auto pc = to_pcl(pts);
+  const Vec3 origin = local_origin(pts);
+  auto pc = to_pcl(pts, origin);
   pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointXYZ> mls;
   mls.setInputCloud(pc);
   mls.setSearchRadius(radius);
@@ -378,7 +385,7 @@ void smooth_mls(PointCloud& cloud, const MlsOptions& o, const CloudScale& scale)
   if (!corr || corr->indices.size() != out.size()) return;
   for (std::size_t k = 0; k < out.size(); ++k) {
     const auto& q = out[k];
-    cloud.points[index[corr->indices[k]]] = Vec3(q.x, q.y, q.z);
+    cloud.points[index[corr->indices[k]]] = Vec3(q.x, q.y, q.z) + origin;
   }
 }
 

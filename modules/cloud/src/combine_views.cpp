@@ -39,9 +39,18 @@ std::vector<Vec3> thinned(const std::vector<Vec3>& pts, double leaf) {
   return c.points;
 }
 
-pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const std::vector<Vec3>& pts) {
-  auto xyz = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  for (const Vec3& p : pts) xyz->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+// The points for PCL relative to `origin` (its floats would round georeferenced coordinates to decimetres).
+pcl::PointCloud<pcl::PointXYZ>::Ptr plain(const std::vector<Vec3>& pts, const Vec3& origin) {
+  auto out = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (const Vec3& p : pts) {
+    const Vec3 q = p - origin;
+    out->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())));
+  }
+  return out;
+}
+
+pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const std::vector<Vec3>& pts, const Vec3& origin) {
+  const auto xyz = plain(pts, origin);
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(xyz);
   ne.setKSearch(std::min<int>(15, static_cast<int>(pts.size()) - 1));
@@ -63,19 +72,14 @@ pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const std::vector<Vec3>& pts
   return out;
 }
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr plain(const std::vector<Vec3>& pts) {
-  auto out = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  for (const Vec3& p : pts) out->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
-  return out;
-}
-
-// One ICP run from `guess` with the given correspondence distance; returns the new estimate.
-Eigen::Matrix4f align(const std::vector<Vec3>& source, const std::vector<Vec3>& target, const RegisterOptions& o, double distance,
-                      const Eigen::Matrix4f& guess, bool& converged) {
+// One ICP run from `guess` with the given correspondence distance; returns the new estimate. Both views
+// go to PCL relative to `origin`, and the transforms (guess and result) are in that frame.
+Eigen::Matrix4f align(const std::vector<Vec3>& source, const std::vector<Vec3>& target, const Vec3& origin, const RegisterOptions& o,
+                      double distance, const Eigen::Matrix4f& guess, bool& converged) {
   if (o.method == RegisterMethod::generalized) {
     pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-    icp.setInputSource(plain(source));
-    icp.setInputTarget(plain(target));
+    icp.setInputSource(plain(source, origin));
+    icp.setInputTarget(plain(target, origin));
     icp.setMaxCorrespondenceDistance(distance);
     icp.setMaximumIterations(o.iterations);
     icp.setTransformationEpsilon(1e-10);
@@ -88,8 +92,8 @@ Eigen::Matrix4f align(const std::vector<Vec3>& source, const std::vector<Vec3>& 
   // Symmetric point-to-plane (Rusinkiewicz 2019): both views' normals, a wider basin than one-sided
   // point-to-plane (which slid 3 spacings along flat faces of Fandisk in the test).
   icp.setUseSymmetricObjective(true);
-  icp.setInputSource(with_normals(source));
-  icp.setInputTarget(with_normals(target));
+  icp.setInputSource(with_normals(source, origin));
+  icp.setInputTarget(with_normals(target, origin));
   icp.setMaxCorrespondenceDistance(distance);
   icp.setMaximumIterations(o.iterations);
   icp.setTransformationEpsilon(1e-10);
@@ -139,16 +143,21 @@ std::vector<ViewAlignment> register_views(std::vector<PointCloud>& views, const 
     both.points.insert(both.points.end(), view.begin(), view.end());
     const CloudScale scale = measure_scale(both);
     const double spacing = scale.spacing;
+    // One origin for both views, from the first view (which stays where it is): PCL works relative to it.
+    const Vec3 origin = local_origin(views[0].points);
     const std::vector<Vec3> target = thinned(model, 1.5 * spacing), source = thinned(view, 1.5 * spacing);
     double distance = std::max(o.max_distance.resolve(spacing, spacing, scale.diagonal), 2.0 * spacing);
-    Eigen::Matrix4f t = Eigen::Matrix4f::Identity();
+    Eigen::Matrix4f t = Eigen::Matrix4f::Identity();  // in the frame centred on `origin`
     ViewAlignment& a = result[k];
     while (true) {
-      t = align(source, target, o, distance, t, a.converged);
+      t = align(source, target, origin, o, distance, t, a.converged);
       if (distance <= 2.0 * spacing) break;
       distance = std::max(distance / 3.0, 2.0 * spacing);
     }
-    a.correction.matrix() = t.cast<double>();
+    // Back to the views' own frame: p -> origin + T (p - origin).
+    Eigen::Isometry3d local;
+    local.matrix() = t.cast<double>();
+    a.correction = Eigen::Translation3d(origin) * local * Eigen::Translation3d(-origin);
     a.rotation_deg = Eigen::AngleAxisd(a.correction.linear()).angle() * kRadToDeg;
     a.translation = a.correction.translation().norm();
     transform_cloud(views[k], a.correction);

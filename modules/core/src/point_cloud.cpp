@@ -1,6 +1,7 @@
 #include "scanmesh/point_cloud.h"
 
 #include <Eigen/Eigenvalues>
+#include <limits>
 #include <sstream>
 
 namespace scanmesh {
@@ -9,6 +10,16 @@ std::size_t PointCloud::finite_count() const {
   std::size_t n = 0;
   for (const auto& p : points) n += p.allFinite() ? 1 : 0;
   return n;
+}
+
+Vec3 local_origin(const std::vector<Vec3>& points) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& p : points)
+    if (p.allFinite()) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  return lo.x() <= hi.x() ? Vec3(0.5 * (lo + hi)) : Vec3::Zero();
 }
 
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {

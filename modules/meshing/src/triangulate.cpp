@@ -26,11 +26,13 @@ namespace {
 
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
-pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& cloud, std::vector<int>& index) {
+// The points with a usable normal, for PCL relative to `origin` (local_origin: its floats would round
+// georeferenced coordinates to decimetres); `index` gets their indices in the cloud.
+pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& cloud, const Vec3& origin, std::vector<int>& index) {
   if (!cloud.has_normals()) throw UsageError("meshing needs normals: run normal estimation (cloud.normals) first");
   auto pc = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Vec3& p = cloud.points[i];
+    const Vec3 p = cloud.points[i] - origin;
     const Vec3& n = cloud.normals[i];
     if (!p.allFinite() || !n.allFinite() || n.isZero()) continue;
     pcl::PointNormal q;
@@ -113,7 +115,7 @@ double pixel_pitch(const PointCloud& cloud, const Vec3& eye) {
 
 Mesh triangulate_gp3(const PointCloud& cloud, const Gp3Options& o, const CloudScale& scale) {
   std::vector<int> index;
-  auto pc = with_normals(cloud, index);
+  auto pc = with_normals(cloud, local_origin(cloud.points), index);
   drop_copies(*pc, index);
   if (pc->size() < 3) throw InputError("meshing: fewer than 3 distinct points with coordinates and normals");
   const double radius = o.radius.resolve(scale.spacing, scale.spacing, scale.diagonal);
@@ -150,8 +152,9 @@ Mesh triangulate_organized(const PointCloud& cloud, const OrganizedOptions& o, c
   pc->height = static_cast<std::uint32_t>(cloud.height);
   pc->is_dense = false;
   pc->points.resize(cloud.size());
+  const Vec3 origin = local_origin(cloud.points);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Vec3& p = cloud.points[i];
+    const Vec3 p = cloud.points[i] - origin;  // NaN holes stay NaN
     pc->points[i] = pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
   }
   const Vec3 eye = cloud.sensor_origin.value_or(Vec3::Zero());
@@ -170,7 +173,7 @@ Mesh triangulate_organized(const PointCloud& cloud, const OrganizedOptions& o, c
   // shadow (a depth jump): a surface seen more obliquely than max_view_angle.
   ofm.setAngleTolerance(static_cast<float>((90.0 - o.max_view_angle_deg) * kDegToRad));
   ofm.setDistanceTolerance(-1.0f);
-  ofm.setViewpoint(eye.cast<float>());
+  ofm.setViewpoint((eye - origin).cast<float>());
   ofm.storeShadowedFaces(false);
   std::vector<pcl::Vertices> polygons;
   ofm.reconstruct(polygons);
@@ -248,7 +251,8 @@ Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const
   if (o.depth != 0 && (o.depth < 4 || o.depth > 12))
     throw UsageError("poisson: depth must be 0 (from the point spacing) or in [4, 12]; got " + std::to_string(o.depth));
   std::vector<int> index;
-  auto pc = with_normals(cloud, index);
+  const Vec3 origin = local_origin(cloud.points);
+  auto pc = with_normals(cloud, origin, index);
   pcl::Poisson<pcl::PointNormal> poisson;
   poisson.setDepth(o.depth > 0 ? o.depth : poisson_depth_for(cloud, scale));
   poisson.setThreads(1);  // PCL's threaded Poisson gives a different mesh from run to run (hippo1: 35,531 faces, two md5s)
@@ -261,7 +265,7 @@ Mesh triangulate_poisson(const PointCloud& cloud, const PoissonOptions& o, const
   pcl::PointCloud<pcl::PointXYZ> verts;
   pcl::fromPCLPointCloud2(out.cloud, verts);
   Mesh m;
-  for (const auto& p : verts.points) m.positions.emplace_back(p.x, p.y, p.z);
+  for (const auto& p : verts.points) m.positions.push_back(Vec3(p.x, p.y, p.z) + origin);
   for (const auto& poly : out.polygons)
     for (std::size_t k = 1; k + 1 < poly.vertices.size(); ++k)
       m.faces.push_back({static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[k]), static_cast<int>(poly.vertices[k + 1])});

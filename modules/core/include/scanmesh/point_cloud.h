@@ -53,6 +53,11 @@ void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
 /// quadratic on a cloud of one repeated point.
 std::string surface_problem(const PointCloud& cloud);
 
+/// The centre of the finite points' bounding box (zero if there are none). PCL holds points in single
+/// precision, whose step at georeferenced coordinates (UTM: 5e5 m east, 4e6 m north) is 0.03-0.5 m:
+/// points go to it relative to this origin, subtracted in double precision, and come back with it added.
+Vec3 local_origin(const std::vector<Vec3>& points);
+
 /// Moves a cloud rigidly: points, normals and the sensor pose (NaN holes stay holes).
 void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& pose);
 
