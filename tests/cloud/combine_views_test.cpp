@@ -29,22 +29,22 @@ void move(PointCloud& c, const Eigen::Isometry3d& t) {
   if (c.sensor_origin) c.sensor_origin = t * *c.sensor_origin;
 }
 
-}  // namespace
-
-TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
-  // Three overlapping virtual scans of the bundled Fandisk, the second and third moved by 5 degrees and a
-  // translation of 4% of its bounding-box diagonal (1 cm on the bunny).
+// Three overlapping virtual scans of the bundled Fandisk, the whole scene placed at `place`, the second and
+// third view moved by 5 degrees and a translation of 4% of the part's bounding-box diagonal (1 cm on the
+// bunny).
+void expect_perturbed_poses_undone(const Vec3& place) {
   const Mesh fandisk = read_mesh(std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj");
   VirtualScanOptions o;
   o.views = 12;
   o.width = 160;
   o.height = 120;
   o.noise = 0.05;
-  const std::vector<PointCloud> all = virtual_scan(fandisk, o);
+  std::vector<PointCloud> all = virtual_scan(fandisk, o);
+  for (PointCloud& v : all) move(v, Eigen::Isometry3d(Eigen::Translation3d(place)));
   // The first view and the two seen from the nearest directions (overlapping, as turntable steps do).
   Vec3 lo = Vec3::Constant(1e300), hi = -lo;
   for (const Vec3& p : fandisk.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Vec3 centre = 0.5 * (lo + hi);
+  const Vec3 centre = 0.5 * (lo + hi) + place;
   const double size = (hi - lo).norm();
   std::vector<std::pair<double, std::size_t>> by_angle;
   const Vec3 d0 = (*all[0].sensor_origin - centre).normalized();
@@ -60,10 +60,11 @@ TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
   for (std::size_t k = 1; k < 3; ++k) {
     const Eigen::Isometry3d residual = a[k].correction * (k == 1 ? p1 : p2);
     const double angle = Eigen::AngleAxisd(residual.linear()).angle() * 180.0 / kPi;
-    EXPECT_LT(angle, 0.5) << "view " << k + 1;
-    // Where the residual leaves the view's points: at the part's scale, within half a percent of its size.
+    EXPECT_LT(angle, 0.5) << "view " << k + 1 << " at " << place.transpose();
+    // Where the residual leaves the view's points: at the part's scale, within 0.75% of its size (the
+    // views overlap in part and slide a little along the flat faces: 0.28-0.54% at eight placements).
     const Vec3 moved_centre = residual * centre;
-    EXPECT_LT((moved_centre - centre).norm(), 0.005 * size) << "view " << k + 1;
+    EXPECT_LT((moved_centre - centre).norm(), 0.0075 * size) << "view " << k + 1 << " at " << place.transpose();
     EXPECT_GT(a[k].overlap, 0.3) << "view " << k + 1;
   }
   const PointCloud merged = merge_views(views);
@@ -71,6 +72,15 @@ TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
   for (const auto& v : views) n += v.finite_count();
   EXPECT_EQ(merged.size(), n);
   EXPECT_TRUE(merged.normals_oriented);  // directions to each view's sensor, as orientation hints
+}
+
+}  // namespace
+
+// The scene at the origin and moved a little: the voxel grid that thins the views falls differently each
+// time (with point-to-plane ICP at every level the third view ended 12-15 degrees off at most placements).
+TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
+  for (const Vec3& place : {Vec3(0, 0, 0), Vec3(0.0037, 0.0021, 0.0013), Vec3(0.05, 0.0185, 0), Vec3(1000.3, 370.111, 0)})
+    expect_perturbed_poses_undone(place);
 }
 
 // Georeferenced views (UTM coordinates, where a float's step is 0.25-0.5 m) register as they do at the

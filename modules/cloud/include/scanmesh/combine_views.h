@@ -1,8 +1,8 @@
 #pragma once
 // Several views of one object into one cloud: merge_views concatenates views that are already in one frame
 // (range scans posed by their .conf, clouds moved by a reader's `transform` or VIEWPOINT); register_views
-// first refines rough poses with PCL's ICP (point-to-plane, or generalized ICP), each view aligned to the
-// views before it, coarse to fine. The options struct is the schema of the cloud.register stage.
+// first refines rough poses with PCL's ICP, each view aligned to the views before it, coarse to fine:
+// point-to-point at the coarse levels, then point-to-plane (or generalized ICP) at two point spacings. The options struct is the schema of the cloud.register stage.
 #include <string>
 #include <vector>
 
@@ -28,13 +28,14 @@ struct RegisterOptions {
         Schema<RegisterOptions>()
             .choice("register_method", &RegisterOptions::method,
                     {{"point_to_plane", RegisterMethod::point_to_plane}, {"gicp", RegisterMethod::generalized}},
-                    "point_to_plane: symmetric point-to-plane ICP (both views' tangent planes; the default); gicp: "
-                    "generalized ICP (plane to plane covariances), slower.")
+                    "ICP at the finest level (the coarser levels use point-to-point): point_to_plane: symmetric "
+                    "point-to-plane (both views' tangent planes; the default); gicp: generalized ICP (plane to plane "
+                    "covariances), slower.")
             .length("register_max_distance", &RegisterOptions::max_distance, open_closed(0, 1e300),
                     "Largest pose error to correct: the first correspondence distance, then a third of it at each level "
                     "down to two point spacings.")
             .integer("register_iterations", &RegisterOptions::iterations, closed(1, 1000), "count",
-                     "ICP iterations at each level.");
+                     "ICP iterations at the finest level; each coarser level takes a tenth of them (at least 5).");
     return s;
   }
 };
