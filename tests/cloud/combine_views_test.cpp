@@ -29,23 +29,36 @@ void move(PointCloud& c, const Eigen::Isometry3d& t) {
   if (c.sensor_origin) c.sensor_origin = t * *c.sensor_origin;
 }
 
-// Three overlapping virtual scans of the bundled Fandisk, the whole scene placed at `place`, the second and
-// third view moved by 5 degrees and a translation of 4% of the part's bounding-box diagonal (1 cm on the
-// bunny).
+// Twelve virtual scans of the bundled Fandisk (160 x 120 pixels, depth noise 0.05), with the part's centre
+// and bounding-box diagonal; made once.
+struct FandiskScans {
+  std::vector<PointCloud> views;
+  Vec3 centre;
+  double size = 0.0;
+};
+const FandiskScans& fandisk_scans() {
+  static const FandiskScans scans = [] {
+    const Mesh fandisk = read_mesh(std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj");
+    VirtualScanOptions o;
+    o.views = 12;
+    o.width = 160;
+    o.height = 120;
+    o.noise = 0.05;
+    Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+    for (const Vec3& p : fandisk.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    return FandiskScans{virtual_scan(fandisk, o), 0.5 * (lo + hi), (hi - lo).norm()};
+  }();
+  return scans;
+}
+
+// Three overlapping views of Fandisk, the whole scene placed at `place`, the second and third view moved
+// by 5 degrees and a translation of 4% of the part's bounding-box diagonal (1 cm on the bunny).
 void expect_perturbed_poses_undone(const Vec3& place) {
-  const Mesh fandisk = read_mesh(std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj");
-  VirtualScanOptions o;
-  o.views = 12;
-  o.width = 160;
-  o.height = 120;
-  o.noise = 0.05;
-  std::vector<PointCloud> all = virtual_scan(fandisk, o);
+  std::vector<PointCloud> all = fandisk_scans().views;
   for (PointCloud& v : all) move(v, Eigen::Isometry3d(Eigen::Translation3d(place)));
   // The first view and the two seen from the nearest directions (overlapping, as turntable steps do).
-  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
-  for (const Vec3& p : fandisk.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Vec3 centre = 0.5 * (lo + hi) + place;
-  const double size = (hi - lo).norm();
+  const Vec3 centre = fandisk_scans().centre + place;
+  const double size = fandisk_scans().size;
   std::vector<std::pair<double, std::size_t>> by_angle;
   const Vec3 d0 = (*all[0].sensor_origin - centre).normalized();
   for (std::size_t k = 1; k < all.size(); ++k) by_angle.emplace_back(-d0.dot((*all[k].sensor_origin - centre).normalized()), k);
@@ -87,17 +100,9 @@ TEST(CombineViews, RegistrationUndoesPerturbedPoses) {
 // origin: PCL gets them relative to a local origin. Two overlapping virtual scans of Fandisk, the second
 // turned by 3 degrees and shifted by 2% of the part's size, both placed at the origin and far from it.
 TEST(CombineViews, GeoreferencedViewsRegisterAsAtTheOrigin) {
-  const Mesh fandisk = read_mesh(std::string(SCANMESH_DATA_DIR) + "/fandisk-clean.obj");
-  VirtualScanOptions o;
-  o.views = 12;
-  o.width = 160;
-  o.height = 120;
-  o.noise = 0.05;
-  const std::vector<PointCloud> all = virtual_scan(fandisk, o);
-  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
-  for (const Vec3& p : fandisk.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Vec3 centre = 0.5 * (lo + hi);
-  const double size = (hi - lo).norm();
+  const std::vector<PointCloud>& all = fandisk_scans().views;
+  const Vec3 centre = fandisk_scans().centre;
+  const double size = fandisk_scans().size;
   std::size_t nearest = 1;  // the view seen from the direction nearest the first's
   const Vec3 d0 = (*all[0].sensor_origin - centre).normalized();
   for (std::size_t k = 2; k < all.size(); ++k)
