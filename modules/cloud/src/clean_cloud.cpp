@@ -102,23 +102,12 @@ std::size_t occupied_voxels(const std::vector<VoxelKey>& keys) {
   return n;
 }
 
-// The corners of the box around a cloud's finite points.
-std::pair<Vec3, Vec3> finite_bounds(const PointCloud& cloud) {
-  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  for (const Vec3& p : cloud.points)
-    if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  return {lo, hi};
-}
-
 // The number of occupied voxels of edge `leaf`, for the search of an edge: 21 bits per axis packed into
-// one 64-bit key where the cloud (within `bounds`) spans fewer than 2^21 voxels along each axis (a quarter
-// of the memory and of the sorting time of the full keys), else from the full keys.
-std::size_t occupied_voxels(const PointCloud& cloud, const std::pair<Vec3, Vec3>& bounds, double leaf) {
-  const Vec3 c0 = (bounds.first / leaf).array().floor();
-  const Vec3 span = (bounds.second / leaf).array().floor() - c0.array();
+// one 64-bit key where the cloud (within `bounds`, its finite_box) spans fewer than 2^21 voxels along each
+// axis (a quarter of the memory and of the sorting time of the full keys), else from the full keys.
+std::size_t occupied_voxels(const PointCloud& cloud, const Box& bounds, double leaf) {
+  const Vec3 c0 = (bounds.lo / leaf).array().floor();
+  const Vec3 span = (bounds.hi / leaf).array().floor() - c0.array();
   constexpr double kCells = 1 << 21;
   if (!(span.maxCoeff() < kCells)) return occupied_voxels(voxel_keys(cloud, leaf));
   std::vector<std::uint64_t> keys;
@@ -155,7 +144,7 @@ VoxelReport voxel_downsample(PointCloud& cloud, const VoxelOptions& o, const Clo
       // the limit between an edge whose grid has too many voxels and one whose grid fits, and halve the
       // bracket (geometrically) until its ends are within 2%; the end that fits is used.
       const auto ratio = [&](std::size_t n) { return std::sqrt(static_cast<double>(n) / static_cast<double>(limit)); };
-      const auto bounds = finite_bounds(cloud);  // once: every count of the search uses it
+      const Box bounds = finite_box(cloud.points);  // once: every count of the search uses it
       double too_small = leaf;  // 0, or an edge whose count is over the limit
       double fits = 0.0;
       double l = std::max(leaf * 1.02, scale.spacing * ratio(count));

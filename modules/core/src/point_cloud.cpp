@@ -1,7 +1,6 @@
 #include "scanmesh/point_cloud.h"
 
 #include <Eigen/Eigenvalues>
-#include <limits>
 #include <sstream>
 
 namespace scanmesh {
@@ -12,14 +11,19 @@ std::size_t PointCloud::finite_count() const {
   return n;
 }
 
-Vec3 local_origin(const std::vector<Vec3>& points) {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+Box finite_box(const std::vector<Vec3>& points) {
+  Box b;
   for (const Vec3& p : points)
     if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
+      b.lo = b.lo.cwiseMin(p);
+      b.hi = b.hi.cwiseMax(p);
     }
-  return lo.x() <= hi.x() ? Vec3(0.5 * (lo + hi)) : Vec3::Zero();
+  return b;
+}
+
+Vec3 local_origin(const std::vector<Vec3>& points) {
+  const Box b = finite_box(points);
+  return b.empty() ? Vec3::Zero() : Vec3(0.5 * (b.lo + b.hi));
 }
 
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <utility>
 #include <string>
 #include <vector>
@@ -21,15 +20,10 @@ namespace {
 // True if the cloud lies farther from the origin than 16 times its own size: a float's step there is
 // over 2e-6 of the cloud's extent (PCL's own files lose that much; this writer keeps doubles instead).
 bool needs_double_coordinates(const PointCloud& cloud) {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Vec3& p : cloud.points)
-    if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  if (!(lo.x() <= hi.x())) return false;
-  const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
-  return far > 16.0 * (hi - lo).norm();
+  const Box b = finite_box(cloud.points);
+  if (b.empty()) return false;
+  const double far = std::max(b.lo.cwiseAbs().maxCoeff(), b.hi.cwiseAbs().maxCoeff());
+  return far > 16.0 * (b.hi - b.lo).norm();
 }
 
 }  // namespace

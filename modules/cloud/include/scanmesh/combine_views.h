@@ -2,7 +2,8 @@
 // Several views of one object into one cloud: merge_views concatenates views that are already in one frame
 // (range scans posed by their .conf, clouds moved by a reader's `transform` or VIEWPOINT); register_views
 // first refines rough poses with PCL's ICP, each view aligned to the views before it, coarse to fine:
-// point-to-point at the coarse levels, then point-to-plane (or generalized ICP) at two point spacings. The options struct is the schema of the cloud.register stage.
+// point-to-point at the coarse levels, then point-to-plane (or generalized ICP) at two point spacings.
+// The options struct is the schema of the cloud.register stage.
 #include <string>
 #include <vector>
 

@@ -2,6 +2,7 @@
 // scanmesh's own point-cloud type: plain vectors, no PCL types, so code that uses clouds compiles fast.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +53,14 @@ void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
 /// they can. Stages that fit planes to neighbours check this first: PCL's neighbour searches also turn
 /// quadratic on a cloud of one repeated point.
 std::string surface_problem(const PointCloud& cloud);
+
+/// The box around the finite points; empty (lo > hi) if there are none.
+struct Box {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  [[nodiscard]] bool empty() const { return !(lo.x() <= hi.x()); }
+};
+Box finite_box(const std::vector<Vec3>& points);
 
 /// The centre of the finite points' bounding box (zero if there are none). PCL holds points in single
 /// precision, whose step at georeferenced coordinates (UTM: 5e5 m east, 4e6 m north) is 0.03-0.5 m:
