@@ -134,6 +134,8 @@ std::vector<ViewAlignment> register_views(std::vector<PointCloud>& views, const 
   std::vector<ViewAlignment> result(views.size());
   if (views.empty()) return result;
   std::vector<Vec3> model = finite(views[0]);
+  // One origin for every view, from the first (which stays where it is): PCL works relative to it.
+  const Vec3 origin = local_origin(model);
   if (model.size() < 10) throw InputError("register: view 1 has fewer than 10 points");
   for (std::size_t k = 1; k < views.size(); ++k) {
     const std::vector<Vec3> view = finite(views[k]);
@@ -143,8 +145,6 @@ std::vector<ViewAlignment> register_views(std::vector<PointCloud>& views, const 
     both.points.insert(both.points.end(), view.begin(), view.end());
     const CloudScale scale = measure_scale(both);
     const double spacing = scale.spacing;
-    // One origin for both views, from the first view (which stays where it is): PCL works relative to it.
-    const Vec3 origin = local_origin(views[0].points);
     const std::vector<Vec3> target = thinned(model, 1.5 * spacing), source = thinned(view, 1.5 * spacing);
     double distance = std::max(o.max_distance.resolve(spacing, spacing, scale.diagonal), 2.0 * spacing);
     Eigen::Matrix4f t = Eigen::Matrix4f::Identity();  // in the frame centred on `origin`

@@ -158,7 +158,9 @@ Mesh read_stl_file(const std::string& path, std::vector<std::string>& warnings, 
     start = 0;
     if (chunks.fresh() == 0) break;
   }
-  if (mesh.faces.size() != n) throw InputError(path + ": binary STL changed while it was read (" + std::to_string(mesh.faces.size()) + " of " + std::to_string(n) + " triangles)");
+  if (mesh.faces.size() != n)
+    throw InputError(path + ": binary STL changed while it was read (" + std::to_string(mesh.faces.size()) + " of " +
+                     std::to_string(n) + " triangles)");
   return mesh;
 }
 

@@ -207,13 +207,8 @@ Mesh triangulate_organized(const PointCloud& cloud, const OrganizedOptions& o, c
 
 int poisson_depth_for(const PointCloud& cloud, const CloudScale& scale) {
   // Octree cells about one point spacing wide over the cloud's largest extent, within [5, 10].
-  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  for (const Vec3& p : cloud.points)
-    if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  const double extent = (hi - lo).maxCoeff();
+  const Box box = finite_box(cloud.points);
+  const double extent = (box.hi - box.lo).maxCoeff();  // -inf for an empty box
   if (!(extent > 0.0) || !(scale.spacing > 0.0)) return 8;
   return std::clamp(static_cast<int>(std::ceil(std::log2(extent / scale.spacing))), 5, 10);
 }
