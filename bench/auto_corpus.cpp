@@ -2,7 +2,7 @@
 // defaults and a peer, bi-Laplacian smoothing with 10 iterations (peers.h) (MSAE in degrees against the
 // clean mesh / flipped faces). A quick check of a change to --auto;
 // the held-back (leave-one-model-out) figures come from scanmesh_auto_cv table.
-// usage: scanmesh_auto_corpus [DATA_DIR] [--only MODEL] [--write-pairs DIR]
+// usage: scanmesh_auto_corpus [DATA_DIR] [--only MODEL] [--mesh CLEAN_FILE ...] [--write-pairs DIR]
 //        --write-pairs DIR also writes each pair's meshes (MODEL-clean.ply, MODEL-VARIANT.ply) to DIR, to
 //        rerun one with the command line
 #include <algorithm>
@@ -37,8 +37,10 @@ int main(int argc, char** argv) {
     for (const auto& pair : bench::load_pairs(model)) {
       const MeshMetrics noisy = evaluate(pair.noisy, &pair.clean);
       if (!write_dir.empty()) {
-        write_mesh(pair.clean, write_dir + "/" + pair.model + "-clean.ply");
-        write_mesh(pair.noisy, write_dir + "/" + pair.model + "-" + pair.variant + ".ply");
+        // Named by the model (a dense version shares its coarse original's group, not its files).
+        std::filesystem::create_directories(write_dir);
+        write_mesh(pair.clean, write_dir + "/" + model.name + "-clean.ply");
+        write_mesh(pair.noisy, write_dir + "/" + model.name + "-" + pair.variant + ".ply");
       }
       Mesh d = pair.noisy;
       denoise(d, DenoiseOptions{});

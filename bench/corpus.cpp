@@ -176,10 +176,16 @@ std::vector<double> parse_list(const char* s) {
 std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
   std::string only;
+  std::vector<Model> outside;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else data = argv[i];
+    else if (!std::strcmp(argv[i], "--mesh") && i + 1 < argc) {
+      const fs::path file = argv[++i];
+      outside.push_back({file.stem().string(), "outside", file, {}, 0, file.stem().string()});
+    } else data = argv[i];
   }
+  // Models from outside the corpus: what no rule was fitted on, the corpus left out.
+  if (!outside.empty()) return outside;
   std::vector<Model> models = corpus_models(data);
   if (models.empty()) {
     std::printf("skipped: %s not found\n", data.c_str());

@@ -54,7 +54,8 @@ const std::vector<Variant>& corpus_variants();
 std::vector<Model> corpus_models(const std::filesystem::path& data);
 /// The models a corpus bench called as `NAME [DATA_DIR] [--only MODEL]` works on (default ../shared/data;
 /// with --only, that model alone). Nothing, after printing "skipped: ... not found", when the folder is
-/// absent, so the bench ends cleanly without the shared data.
+/// absent, so the bench ends cleanly without the shared data. `--mesh FILE` (repeatable) takes that clean
+/// mesh instead of the corpus: a model no rule was fitted on, with the corpus's noise variants.
 std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv);
 
 /// The numbers of a command-line list "a,b,c".
