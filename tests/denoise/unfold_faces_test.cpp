@@ -124,3 +124,39 @@ TEST(UnfoldFaces, OnlyMovesThatUndoAFoldOrStraightenItAreMade) {
     }
   }
 }
+
+TEST(UnfoldFaces, AFoldOfTheInputGetsTheReferenceOfTheSurfaceAroundIt) {
+  // The noise pulled a vertex across its neighbours' edges. The robust prefilter leaves the folded
+  // faces' normals as they are (a neighbour 180 degrees away weighs nothing), so their reference points
+  // down with them; fold_reference turns it back to the plane's, and the fold can then be undone.
+  const Mesh grid = test::make_grid(8);
+  const Topology t = build_topology(grid);
+  const int v = 4 * 9 + 4;
+  const std::vector<Vec3> folded = pulled(grid, v, Vec3(1.6, 0.3, 0.0));
+  FaceGeometry g;
+  compute_face_geometry(folded, grid.faces, g);
+  ASSERT_GT(turned(grid, folded), 0);
+  const std::vector<Vec3> reference = fold_reference(g.normals, grid.faces, t, g.areas);
+  for (std::size_t f = 0; f < grid.faces.size(); ++f) {
+    EXPECT_EQ(reference[f], Vec3(0, 0, 1)) << f;
+  }
+  std::vector<Vec3> p = folded;
+  unfold_faces(p, grid.faces, t, folded, reference);
+  EXPECT_EQ(turned(grid, p), 0);
+  // With the faces' own normals as the reference nothing looks folded.
+  std::vector<Vec3> q = folded;
+  EXPECT_EQ(unfold_faces(q, grid.faces, t, folded, g.normals).folds, 0u);
+}
+
+TEST(UnfoldFaces, ASurfaceWithoutFoldsKeepsItsReference) {
+  // Every face of a closed sphere and of a roof agrees with the faces around its corners.
+  for (const Mesh& m : {test::make_sphere(3), test::make_grid(6)}) {
+    Mesh shape = m;
+    if (shape.positions.size() == 49) {  // the grid, folded into a roof along x = 3
+      for (auto& p : shape.positions) p.z() = 0.8 * (3.0 - std::abs(p.x() - 3.0));
+    }
+    FaceGeometry g;
+    compute_face_geometry(shape.positions, shape.faces, g);
+    EXPECT_EQ(fold_reference(g.normals, shape.faces, build_topology(shape), g.areas), g.normals);
+  }
+}

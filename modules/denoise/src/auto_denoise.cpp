@@ -239,13 +239,16 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   const std::vector<Vec3> input = mesh.positions;
   auto unfold = [&](Mesh& m) {
     if (r.run.iterations == 0) return;  // the input returned as it was
+    // Folds the noise made and the run left are folds too; the result check keeps the raw reference,
+    // against which its constants were fitted.
+    const std::vector<Vec3> unfold_reference = fold_reference(reference, m.faces, topo, geometry.areas);
     std::vector<Vec3> pos = m.positions;
-    r.unfold = unfold_faces(pos, m.faces, topo, input, reference);
+    r.unfold = unfold_faces(pos, m.faces, topo, input, unfold_reference);
     if (r.unfold.moved == 0) return;
     FaceGeometry before, after;
     compute_face_geometry(m.positions, m.faces, before);
     compute_face_geometry(pos, m.faces, after);
-    if (turned_area_share(after, reference) > turned_area_share(before, reference)) {
+    if (turned_area_share(after, unfold_reference) > turned_area_share(before, unfold_reference)) {
       r.unfold.remaining = r.unfold.folds;
       r.unfold.moved = 0;
       return;

@@ -22,7 +22,8 @@
 //    itself has, by area; volume kept); the last iteration that passed is returned (the input if none).
 // 6. Folds the run left (faces turned against the smoothed input and their own neighbours) are relaxed
 //    locally (unfold_faces.h), unless the input was returned; kept only if they turn no more of the
-//    surface than before.
+//    surface than before. The smoothed input here has the faces the noise folded turned back to the
+//    surface around them (fold_reference), so folds the run never touched count too.
 // Every constant here comes from AutoRules, fitted by leave-one-model-out cross-validation over the
 // tuning corpus (bench/auto_cv.cpp, README "Choosing parameters automatically").
 #include <algorithm>

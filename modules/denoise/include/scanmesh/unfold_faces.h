@@ -21,6 +21,16 @@ struct UnfoldReport {
   std::size_t moved = 0;      ///< vertex moves made (a vertex may move in several rounds)
 };
 
+/// `reference` with the faces that point against their surroundings turned back: a face whose reference
+/// points against those of at least two of its edge neighbours and lies more than ~127 degrees from the
+/// area-weighted sum of the references of the faces around its corners (`areas` per face) takes that
+/// sum's direction. A face the noise folded over (a vertex pulled across its neighbour's edge) keeps its
+/// own normal through the robust prefilter, whose Tukey weight gives a neighbour 180 degrees away
+/// nothing; against the raw reference such a fold looks right and its repair turned. Deterministic (each
+/// face reads the unrepaired references only). `topology` needs face_faces.
+std::vector<Vec3> fold_reference(const std::vector<Vec3>& reference, const std::vector<Face>& faces, const Topology& topology,
+                                 const std::vector<double>& areas);
+
 /// Unfolds `positions` (the denoised mesh; `faces` and `topology` are its connectivity) in place.
 /// `input` holds the positions before denoising (for the sliver test) and `reference` one unit normal per
 /// face that the faces should not point against (--auto: prefiltered_normals of the input). At most
