@@ -122,8 +122,10 @@ int main(int argc, char** argv) {
     else data = argv[i];
   }
   register_scan_stages();
-  if (!fs::is_directory(data / "clouds")) {
-    std::printf("skipped: %s not found\n", (data / "clouds").c_str());
+  // The folder the asked-for part reads: clouds/, or the models of train/ (or the shared ones) for the scans.
+  const fs::path needed = clouds ? data / "clouds" : !model_list.empty() ? data / "train" : data;
+  if (!fs::is_directory(needed)) {
+    std::printf("skipped: %s not found\n", needed.c_str());
     return 0;
   }
   const fs::path tmp = fs::temp_directory_path() / ("scanmesh_methods_" + std::to_string(::getpid()));
