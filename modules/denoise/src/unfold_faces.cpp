@@ -27,19 +27,29 @@ Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cr
 std::vector<Vec3> fold_reference(const std::vector<Vec3>& reference, const std::vector<Face>& faces, const Topology& topology,
                                  const std::vector<double>& areas) {
   std::vector<Vec3> out = reference;
-  const long nf = static_cast<long>(faces.size());
-  if (reference.size() != faces.size() || areas.size() != faces.size() || topology.face_faces.rows() != faces.size()) return out;
+  const std::size_t nf = faces.size();
+  if (reference.size() != nf || areas.size() != nf || topology.face_faces.rows() != nf) return out;
+  // Per vertex, the area-weighted sum of its faces' references: a face's corners' faces are then three
+  // lookups, whatever the vertex degrees (a hub of k faces would otherwise cost k^2).
+  const long nv = static_cast<long>(topology.vertex_faces.rows());
+  std::vector<Vec3> at_vertex(static_cast<std::size_t>(nv), Vec3::Zero());
 #pragma omp parallel for schedule(static)
-  for (long f = 0; f < nf; ++f) {
+  for (long v = 0; v < nv; ++v) {
+    Vec3 sum = Vec3::Zero();
+    for (const int* g = topology.vertex_faces.begin(static_cast<std::size_t>(v)); g != topology.vertex_faces.end(static_cast<std::size_t>(v)); ++g)
+      sum += areas[static_cast<std::size_t>(*g)] * reference[static_cast<std::size_t>(*g)];
+    at_vertex[static_cast<std::size_t>(v)] = sum;
+  }
+#pragma omp parallel for schedule(static)
+  for (long f = 0; f < static_cast<long>(nf); ++f) {
     const auto i = static_cast<std::size_t>(f);
     int against = 0;
     for (const int* g = topology.face_faces.begin(i); g != topology.face_faces.end(i); ++g)
       against += reference[static_cast<std::size_t>(*g)].dot(reference[i]) < 0.0 ? 1 : 0;
     if (against < kFoldNeighboursAgainst) continue;
-    Vec3 around = Vec3::Zero();
-    for (int v : faces[i])
-      for (const int* g = topology.vertex_faces.begin(v); g != topology.vertex_faces.end(v); ++g)
-        if (*g != f) around += areas[static_cast<std::size_t>(*g)] * reference[static_cast<std::size_t>(*g)];
+    // The faces around its corners (a face on two of them counted twice), without the face itself.
+    Vec3 around = -3.0 * areas[i] * reference[i];
+    for (int v : faces[i]) around += at_vertex[static_cast<std::size_t>(v)];
     const double len = around.norm();
     if (len > 0.0 && reference[i].dot(around) < kFoldAgainstCos * len) out[i] = around / len;
   }
