@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   }
   const auto models = bench::corpus_models_from_args(static_cast<int>(args.size()), args.data());
   if (!models) return 0;
+  if (!write_dir.empty()) std::filesystem::create_directories(write_dir);
   std::printf("model,variant,noisy_msae,noisy_flips,default_msae,default_flips,auto_msae,auto_flips,mode,iterations,"
               "noisy_slivers,default_slivers,auto_slivers,bilaplacian_msae,bilaplacian_flips\n");
   // Slivers: faces whose circumradius exceeds 3x their shortest edge (equilateral: 0.577).
@@ -38,7 +39,6 @@ int main(int argc, char** argv) {
       const MeshMetrics noisy = evaluate(pair.noisy, &pair.clean);
       if (!write_dir.empty()) {
         // Named by the model (a dense version shares its coarse original's group, not its files).
-        std::filesystem::create_directories(write_dir);
         write_mesh(pair.clean, write_dir + "/" + model.name + "-clean.ply");
         write_mesh(pair.noisy, write_dir + "/" + model.name + "-" + pair.variant + ".ply");
       }

@@ -13,10 +13,11 @@ constexpr double kSliverShape = 3.0;
 
 // fold_reference: a face's reference is taken as folded when at least this many of its edge neighbours'
 // references point against it (two: an outlier's tangential pull folds a face or two over their
-// neighbours) and the faces around its corners, summed by area, lie more than ~127 degrees from it. Measured on the corpus
-// (scanmesh_auto_corpus, shipped rules, 2026-12-05): any disagreement (one neighbour, 90 degrees) gained
-// most on impulsive noise but also turned back the real folds of a coarse car body (beetle, 4% of its
-// clean faces disagree with their corners' faces), whose impulsive pair then ended past its noisy input.
+// neighbours) and the faces around its corners, summed by area, lie more than ~127 degrees from it.
+// Measured on the corpus (scanmesh_auto_corpus, shipped rules, 2026-12-05): any disagreement (one
+// neighbour, 90 degrees) gained most on impulsive noise but also turned back the real folds of a coarse
+// car body (beetle, 4% of its clean faces disagree with their corners' faces), whose impulsive pair then
+// ended past its noisy input.
 constexpr int kFoldNeighboursAgainst = 2;
 constexpr double kFoldAgainstCos = -0.6;
 
