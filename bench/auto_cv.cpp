@@ -10,6 +10,12 @@
 //                    [--flat-growths a,b,..]     the flattening rule's growth limits offered (x noise level;
 //                                                0 = off; default 0,0.35); grids without the
 //                                                flat-edge column (before 2026-12-04, night) replay it as off
+//                    [--flat-maxes a,b,..]       its limits on the share of flat edges at the probe (default
+//                                                0.4,0.45,0.5)
+//                    [--flat-strongs a,b,..]     its limits on the share of creases over 45 degrees (default
+//                                                1,0.03,0.04; 1 = none)
+//                    [--narrow]                  the other rule dimensions cut to the values the folds took on
+//                                                2026-12-05 (3 s instead of 8 min: for trying flattening limits)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -19,7 +25,8 @@
 //                                                pure test models, with rules fitted on all the others
 //                    [--timing-runs K]           the cost column times each side K times (default 3) and
 //                                                takes the fastest
-//                    [--only MODEL]              the table's rows of one model only (the fit is the same)
+//                    [--only MODEL,...]          the table's rows of these models (names or groups) only (the
+//                                                fit is the same)
 //
 // GRID.csv are outputs of scanmesh_auto_grid (quality, displacement, creases and turned faces at
 // checkpoint iterations, for the candidate settings the rules choose between). Replaying the rules on
@@ -186,39 +193,47 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
 std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas,
-                                  const std::vector<double>& smooth_sigmas, const std::vector<double>& flat_growths) {
+                                  const std::vector<double>& smooth_sigmas, const std::vector<double>& flat_growths,
+                                  const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow) {
   std::vector<Candidate> out;
+  // narrow: the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took.
+  auto pick = [narrow](std::vector<double> all, std::vector<double> taken) { return narrow ? taken : all; };
+  // The flattening rule off is one candidate: the one with these (any values would do).
+  auto off_value = [](const std::vector<double>& list, double usual) {
+    return std::find(list.begin(), list.end(), usual) != list.end() ? usual : list.front();
+  };
+  const double off_max = off_value(flat_maxes, 0.45), off_strong = off_value(flat_strongs, 1.0);
   for (double smooth_sigma : smooth_sigmas)
   for (double sharp_lambda : sharp_lambdas)
   for (double smooth_lambda : smooth_lambdas)
   for (double imp : {0.011})
-    for (double oj : {4.0, 6.0})
-    for (bool peaks : {false, true})
+    for (double oj : pick({4.0, 6.0}, {4.0}))
+    for (double peaks : pick({0.0, 1.0}, {1.0}))
       for (int ni : {50, 100})
         for (int sharp = 0; sharp < 1; ++sharp)
           for (int probe : {14})  // (10 was offered until 2026-12-04: no fold took it, nor a slack of 1.0)
-            for (double crease : {0.01, 0.015, 0.02, 0.026, 0.035})
-              for (double slope : {0.0, 0.05, 0.1})
+            for (double crease : pick({0.01, 0.015, 0.02, 0.026, 0.035}, {0.02, 0.026, 0.035}))
+              for (double slope : pick({0.0, 0.05, 0.1}, {0.0, 0.05}))
                 for (double clear : {0.0})
               for (int stat : {2})
                 // (0.5-0.7 and 1.5 or none offered until 2026-12-04; every fold took 0.8)
-                for (double ts : {0.8, 1.0})
+                for (double ts : pick({0.8, 1.0}, {0.8}))
                   // (0.4-0.6 offered until 2026-12-04; every fold took 0.45)
                   for (double to : {0.45, 0.5})
-                    for (double to_level : {0.0, 0.5, 0.75, 1.0})
+                    for (double to_level : pick({0.0, 0.5, 0.75, 1.0}, {0.75}))
                     for (double slack : {0.002})
-                    for (double floor : {0.0, 0.7, 0.75, 0.8})
-                    for (double floor_level : {0.1, 0.15, 0.2})
+                    for (double floor : pick({0.0, 0.7, 0.75, 0.8}, {0.75}))
+                    for (double floor_level : pick({0.1, 0.15, 0.2}, {0.15}))
                     for (double flat_growth : flat_growths)
-                    for (double flat_max : {0.4, 0.45, 0.5})
-                    for (double flat_strong : {1.0, 0.03, 0.04})
+                    for (double flat_max : flat_maxes)
+                    for (double flat_strong : flat_strongs)
                       for (double fall : {0.0, 0.5, 0.7})
-                      for (double plateau : {0.0, 0.01, 0.015, 0.02, 0.025})
+                      for (double plateau : pick({0.0, 0.01, 0.015, 0.02, 0.025}, {0.01, 0.015, 0.025}))
                       for (double span : {2.0, 1.5}) {
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
                       if (floor != 0.0 && floor != 0.75 && floor_level != 0.15) continue;
-                      if (flat_growth == 0.0 && (flat_max != 0.45 || flat_strong != 1.0)) continue;  // (one "off")
+                      if (flat_growth == 0.0 && (flat_max != off_max || flat_strong != off_strong)) continue;  // (one "off")
                       Candidate c;
                       AutoRules& r = c.rules;
                       r.plateau_span = span;
@@ -226,7 +241,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.crease_fall = fall;
                       r.impulsive_share = imp;
                       r.outlier_jump = oj;
-                      r.outlier_peaks = peaks;
+                      r.outlier_peaks = peaks != 0.0;
                       r.impulsive_iterations = ni;
                       r.sharp_sigma = sharp == 0 ? 0.7 : 0.55;
                       r.sharp_lambda = sharp == 0 ? sharp_lambda : 0.3;
@@ -265,7 +280,8 @@ struct Fit {
 };
 
 Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas,
-            const std::vector<double>& only_sharp_lambdas, const std::vector<double>& flat_growths) {
+            const std::vector<double>& only_sharp_lambdas, const std::vector<double>& flat_growths,
+            const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow) {
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -293,7 +309,7 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<doub
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
   f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas,
-                       flat_growths);
+                       flat_growths, flat_maxes, flat_strongs, narrow);
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -381,7 +397,7 @@ std::string fmt2(double v) {
 
 int main(int argc, char** argv) {
   if (argc < 3 || (std::strcmp(argv[1], "fit") != 0 && std::strcmp(argv[1], "table") != 0)) {
-    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] [--smooth-sigmas a,b] [--sharp-lambdas a,b] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL]\n");
+    std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] [--smooth-sigmas a,b] [--sharp-lambdas a,b] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL,...]\n");
     return 2;
   }
   const bool table = std::strcmp(argv[1], "table") == 0;
@@ -393,6 +409,8 @@ int main(int argc, char** argv) {
   std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights offered (empty: all the grids hold)
   // (0.25, 0.3 and 0.4 offered too until 2026-12-05: every fold took 0.35)
   std::vector<double> flat_growths = {0.0, 0.35};  // the flattening rule's growth limits offered (0: off)
+  std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits offered
+  bool narrow = false;
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -415,6 +433,18 @@ int main(int argc, char** argv) {
       flat_growths = bench::parse_list(argv[++i]);
       continue;
     }
+    if (std::strcmp(argv[i], "--flat-maxes") == 0 && i + 1 < argc) {
+      flat_maxes = bench::parse_list(argv[++i]);
+      continue;
+    }
+    if (std::strcmp(argv[i], "--flat-strongs") == 0 && i + 1 < argc) {
+      flat_strongs = bench::parse_list(argv[++i]);
+      continue;
+    }
+    if (std::strcmp(argv[i], "--narrow") == 0) {
+      narrow = true;
+      continue;
+    }
     if (!table && std::strcmp(argv[i], "--sharp-lambdas") == 0 && i + 1 < argc) {
       sharp_lambdas = bench::parse_list(argv[++i]);
       continue;
@@ -430,7 +460,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths);
+  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths, flat_maxes, flat_strongs, narrow);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.
@@ -495,7 +525,9 @@ int main(int argc, char** argv) {
   std::vector<double> ratios;
   int rows = 0, beat = 0, bad = 0, flip_bad = 0, beat_peer = 0;
   for (const auto& model : bench::corpus_models(data)) {
-    if (!only.empty() && model.name != only) continue;
+    if (!only.empty() && ("," + only + ",").find("," + model.name + ",") == std::string::npos &&
+        ("," + only + ",").find("," + model.group + ",") == std::string::npos)
+      continue;
     const AutoRules rules = fold.count(model.group) ? fold[model.group] : f.cands[all].rules;
     for (const auto& pair : bench::load_pairs(model)) {
       long nf = 0, df = 0, af = 0;

@@ -3,7 +3,7 @@
 // displacement from the noisy input, at checkpoint iterations. One run to the last checkpoint gives every
 // earlier one (the state after k iterations does not depend on the total), so the grid is cheap enough
 // to fit --auto offline, with leave-one-model-out cross-validation (auto_cv).
-// usage: scanmesh_auto_grid [DATA_DIR] [--only MODEL,...] [--sigmas a,b,..] [--lambdas ..] [--radii ..]
+// usage: scanmesh_auto_grid [DATA_DIR] [--only MODEL,...] [--skip MODEL,...] [--sigmas a,b,..] [--lambdas ..] [--radii ..]
 //                           [--outliers a,b,..]   outlier_jump values (0: off; negative: that value with
 //                                                 outlier_peaks; recorded as the curve's outlier key)
 //                           [--sliver-guard G] > grid.csv   (G: the denoiser's sliver_guard, default its default)
@@ -71,7 +71,11 @@ int main(int argc, char** argv) {
   const std::vector<int> checkpoints = {1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 12,  14,  16,  18,  20,  23,  26,
                                         30, 35, 40, 45, 50, 60, 70, 80, 90, 100, 115, 130, 150, 175, 200};
   for (const auto& model : models) {
-    if ((!only.empty() && ("," + only + ",").find("," + model.name + ",") == std::string::npos) || model.name == skip) continue;
+    auto listed = [&model](const std::string& list) {  // by the model's name or its cross-validation group
+      return ("," + list + ",").find("," + model.name + ",") != std::string::npos ||
+             ("," + list + ",").find("," + model.group + ",") != std::string::npos;
+    };
+    if ((!only.empty() && !listed(only)) || (!skip.empty() && listed(skip))) continue;
     for (const auto& pair : bench::load_pairs(model)) {
       const auto t0 = std::chrono::steady_clock::now();
       FaceGeometry g;

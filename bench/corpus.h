@@ -33,6 +33,9 @@ struct Model {
   std::string group;
   /// Made in code instead of read from `clean` (test::make_zippered_cylinder, tests/helpers.h).
   bool generated = false;
+  /// Quadric decimation (VTK) of the clean mesh to about this many faces (0: none): a coarser version of
+  /// a dense model, at the resolution of the organic meshes users denoise most (17k-124k faces).
+  std::size_t decimate_to = 0;
 };
 
 /// One step of Loop subdivision (Loop 1987): every triangle into four, new edge points 3/8 + 3/8 + 1/8 +
@@ -40,6 +43,9 @@ struct Model {
 /// the cubic B-spline rules (edge midpoints, 3/4 + 1/8 + 1/8). Non-manifold edges are split at their
 /// midpoints.
 Mesh loop_subdivide(const Mesh& mesh);
+
+/// VTK's quadric decimation (Garland and Heckbert 1997) to about `faces` triangles; deterministic.
+Mesh decimate(const Mesh& mesh, std::size_t faces);
 
 /// The noisy variants made from every clean model: (kind, direction, level x mean edge).
 struct Variant {
