@@ -16,6 +16,9 @@
 //                                                1,0.03,0.04; 1 = none)
 //                    [--narrow]                  the other rule dimensions cut to the values the folds took on
 //                                                2026-12-05 (3 s instead of 8 min: for trying flattening limits)
+//                    [--low-targets a,b,.. --low-flats a,b,..]  replay only, not in AutoRules: a feature-
+//                                                keeping run with fewer nearly flat edges than the latter at
+//                                                the probe stops at the former x the noise (0 = off)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -67,6 +70,10 @@ constexpr int kPeerIterations = bench::kBilaplacianIterations;
 struct Candidate {
   AutoRules rules;
   int statistic = 1;  // 0 median, 1 rms, 2 trimmed rms jump (rules.noise_statistic)
+  // Replay only (not in AutoRules; --low-targets): a feature-keeping run whose surface has fewer than
+  // low_flat nearly flat edges at the probe (and creases over 45 degrees below flat_max_strong) stops at
+  // low_target x the noise instead of sharp_target (0 = off).
+  double low_target = 0.0, low_flat = 0.0;
 };
 
 double noise_of(const PairData& p, int statistic) { return statistic == 0 ? p.jmed : statistic == 1 ? p.jrms : p.jtrim; }
@@ -84,7 +91,7 @@ struct Outcome {
 // With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
 template <class Probe>
-const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, double target, int cap, Probe probe,
+const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, const double& target, int cap, Probe probe,
                        bool& probed_out, bool while_falling = false, int* target_it = nullptr) {
   const Checkpoint* last = nullptr;
   if (target_it) *target_it = 0;
@@ -145,6 +152,8 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   if (r.flat_growth_per_level > 0.0)
     for (const Checkpoint& c : *sharp)
       if (c.it == r.probe_iterations / 2) flat_half = c.flat;
+  const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
+  double sharp_t = target;  // lowered at the probe by the replay-only low target
   auto decide = [&](const Checkpoint& c) {
     if (c.it == r.probe_iterations) {
       creases = c.s20 - c.s45;
@@ -155,6 +164,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
           decided_smooth = true;
           return false;
         }
+        if (cand.low_target > 0.0 && c.flat >= 0.0 && c.flat < cand.low_flat && c.s45 < r.flat_max_strong) sharp_t = cand.low_target * noise;
         return true;
       }
       decided_smooth = true;
@@ -162,9 +172,8 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     }
     return true;
   };
-  const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
   int target_it = 0;
-  const Checkpoint* e = walk(*sharp, p, r, target, r.max_iterations, decide, stopped, true, &target_it);
+  const Checkpoint* e = walk(*sharp, p, r, sharp_t, r.max_iterations, decide, stopped, true, &target_it);
   if (creases < 0.0 && e) {  // the run ended before the first probe
     creases = e->s20 - e->s45;
     decided_smooth = creases > limit;
@@ -194,7 +203,8 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
 std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas,
                                   const std::vector<double>& smooth_sigmas, const std::vector<double>& flat_growths,
-                                  const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow) {
+                                  const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow,
+                                  const std::vector<double>& lows, const std::vector<double>& lowflats) {
   std::vector<Candidate> out;
   // narrow: the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took.
   auto pick = [narrow](std::vector<double> all, std::vector<double> taken) { return narrow ? taken : all; };
@@ -229,7 +239,10 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                     for (double flat_strong : flat_strongs)
                       for (double fall : {0.0, 0.5, 0.7})
                       for (double plateau : pick({0.0, 0.01, 0.015, 0.02, 0.025}, {0.01, 0.015, 0.025}))
-                      for (double span : {2.0, 1.5}) {
+                      for (double span : {2.0, 1.5})
+                      for (double lt : lows)
+                      for (double lf : lowflats) {
+                      if (lt == 0.0 && lf != lowflats[0]) continue;
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
                       if (floor != 0.0 && floor != 0.75 && floor_level != 0.15) continue;
@@ -260,6 +273,8 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.smooth_floor_level = floor_level;
                       r.turned_slack = slack;  // 1.0: no check (every face may turn)
                       r.flat_growth_per_level = flat_growth;
+                      c.low_target = lt;
+                      c.low_flat = lf;
                       r.flat_share_max = flat_max;
                       r.flat_max_strong = flat_strong;
                       out.push_back(c);
@@ -281,7 +296,8 @@ struct Fit {
 
 Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas,
             const std::vector<double>& only_sharp_lambdas, const std::vector<double>& flat_growths,
-            const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow) {
+            const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow,
+            const std::vector<double>& lows, const std::vector<double>& lowflats) {
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -309,7 +325,7 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<doub
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
   f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas,
-                       flat_growths, flat_maxes, flat_strongs, narrow);
+                       flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats);
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -411,6 +427,7 @@ int main(int argc, char** argv) {
   std::vector<double> flat_growths = {0.0, 0.35};  // the flattening rule's growth limits offered (0: off)
   std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits offered
   bool narrow = false;
+  std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -441,6 +458,14 @@ int main(int argc, char** argv) {
       flat_strongs = bench::parse_list(argv[++i]);
       continue;
     }
+    if (!table && std::strcmp(argv[i], "--low-targets") == 0 && i + 1 < argc) {
+      lows = bench::parse_list(argv[++i]);
+      continue;
+    }
+    if (!table && std::strcmp(argv[i], "--low-flats") == 0 && i + 1 < argc) {
+      lowflats = bench::parse_list(argv[++i]);
+      continue;
+    }
     if (std::strcmp(argv[i], "--narrow") == 0) {
       narrow = true;
       continue;
@@ -460,7 +485,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths, flat_maxes, flat_strongs, narrow);
+  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.
@@ -480,12 +505,14 @@ int main(int argc, char** argv) {
   std::printf("%zu pairs of %zu models with complete curves; %zu rule candidates\n\n", f.keys.size(), models.size(), f.cands.size());
   const std::size_t all = best_candidate(f, "");
   print_rules("fitted on all:", f.cands[all].rules);
+  if (f.cands[all].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[all].low_target, f.cands[all].low_flat);
   std::map<std::string, AutoRules> fold;
   double held = 0, wins = 0, worse = 0, more_flips = 0, peer_wins = 0, peer_pairs = 0;
   for (const auto& m : models) {
     const std::size_t j = best_candidate(f, m);
     fold[m] = f.cands[j].rules;
     print_rules(("without " + m).c_str(), fold[m]);
+    if (f.cands[j].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[j].low_target, f.cands[j].low_flat);
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
       if (f.model_of[i] != m) continue;
       const double x = f.msae[i * f.cands.size() + j];
