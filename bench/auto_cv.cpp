@@ -442,36 +442,25 @@ int main(int argc, char** argv) {
       data = argv[++i];
       continue;
     }
-    if (!table && std::strcmp(argv[i], "--smooth-sigmas") == 0 && i + 1 < argc) {
-      smooth_sigmas = bench::parse_list(argv[++i]);
-      continue;
-    }
-    if (std::strcmp(argv[i], "--flat-growths") == 0 && i + 1 < argc) {
-      flat_growths = bench::parse_list(argv[++i]);
-      continue;
-    }
-    if (std::strcmp(argv[i], "--flat-maxes") == 0 && i + 1 < argc) {
-      flat_maxes = bench::parse_list(argv[++i]);
-      continue;
-    }
-    if (std::strcmp(argv[i], "--flat-strongs") == 0 && i + 1 < argc) {
-      flat_strongs = bench::parse_list(argv[++i]);
-      continue;
-    }
-    if (!table && std::strcmp(argv[i], "--low-targets") == 0 && i + 1 < argc) {
-      lows = bench::parse_list(argv[++i]);
-      continue;
-    }
-    if (!table && std::strcmp(argv[i], "--low-flats") == 0 && i + 1 < argc) {
-      lowflats = bench::parse_list(argv[++i]);
-      continue;
-    }
+    // The candidate lists offered to the fit (the flattening limits also shape the table's own fit).
+    const struct {
+      const char* flag;
+      std::vector<double>* list;
+      bool fit_only;
+    } lists[] = {{"--smooth-sigmas", &smooth_sigmas, true}, {"--flat-growths", &flat_growths, false},
+                 {"--flat-maxes", &flat_maxes, false},      {"--flat-strongs", &flat_strongs, false},
+                 {"--low-targets", &lows, true},            {"--low-flats", &lowflats, true},
+                 {"--sharp-lambdas", &sharp_lambdas, true}};
+    bool listed = false;
+    for (const auto& l : lists)
+      if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {
+        *l.list = bench::parse_list(argv[++i]);
+        listed = true;
+        break;
+      }
+    if (listed) continue;
     if (std::strcmp(argv[i], "--narrow") == 0) {
       narrow = true;
-      continue;
-    }
-    if (!table && std::strcmp(argv[i], "--sharp-lambdas") == 0 && i + 1 < argc) {
-      sharp_lambdas = bench::parse_list(argv[++i]);
       continue;
     }
     if (std::strcmp(argv[i], "--peer-objective") == 0) {
