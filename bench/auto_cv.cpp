@@ -19,6 +19,9 @@
 //                    [--low-targets a,b,.. --low-flats a,b,..]  replay only, not in AutoRules: a feature-
 //                                                keeping run with fewer nearly flat edges than the latter at
 //                                                the probe stops at the former x the noise (0 = off)
+//                    [--fall-flats a,b,..]       replay only, not in AutoRules: a feature-keeping run with
+//                                                fewer nearly flat edges than this at the probe does not go on
+//                                                while its soft creases fall (0 = always does)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -74,6 +77,9 @@ struct Candidate {
   // low_flat nearly flat edges at the probe (and creases over 45 degrees below flat_max_strong) stops at
   // low_target x the noise instead of sharp_target (0 = off).
   double low_target = 0.0, low_flat = 0.0;
+  // Replay only (not in AutoRules; --fall-flats): a feature-keeping run with fewer nearly flat edges than
+  // this at the probe does not go on while its soft creases fall (crease_fall off for it; 0 = always on).
+  double fall_flat = 0.0;
 };
 
 double noise_of(const PairData& p, int statistic) { return statistic == 0 ? p.jmed : statistic == 1 ? p.jrms : p.jtrim; }
@@ -154,6 +160,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
       if (c.it == r.probe_iterations / 2) flat_half = c.flat;
   const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
   double sharp_t = target;  // lowered at the probe by the replay-only low target
+  AutoRules walk_rules = r;  // crease_fall switched off at the probe by the replay-only fall_flat
   auto decide = [&](const Checkpoint& c) {
     if (c.it == r.probe_iterations) {
       creases = c.s20 - c.s45;
@@ -165,6 +172,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
           return false;
         }
         if (cand.low_target > 0.0 && c.flat >= 0.0 && c.flat < cand.low_flat && c.s45 < r.flat_max_strong) sharp_t = cand.low_target * noise;
+        if (cand.fall_flat > 0.0 && c.flat >= 0.0 && c.flat < cand.fall_flat) walk_rules.crease_fall = 0.0;
         return true;
       }
       decided_smooth = true;
@@ -173,7 +181,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     return true;
   };
   int target_it = 0;
-  const Checkpoint* e = walk(*sharp, p, r, sharp_t, r.max_iterations, decide, stopped, true, &target_it);
+  const Checkpoint* e = walk(*sharp, p, walk_rules, sharp_t, r.max_iterations, decide, stopped, true, &target_it);
   if (creases < 0.0 && e) {  // the run ended before the first probe
     creases = e->s20 - e->s45;
     decided_smooth = creases > limit;
@@ -204,7 +212,8 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas,
                                   const std::vector<double>& smooth_sigmas, const std::vector<double>& flat_growths,
                                   const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow,
-                                  const std::vector<double>& lows, const std::vector<double>& lowflats) {
+                                  const std::vector<double>& lows, const std::vector<double>& lowflats,
+                                  const std::vector<double>& falls) {
   std::vector<Candidate> out;
   // narrow: the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took.
   auto pick = [narrow](std::vector<double> all, std::vector<double> taken) { return narrow ? taken : all; };
@@ -241,7 +250,8 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       for (double plateau : pick({0.0, 0.01, 0.015, 0.02, 0.025}, {0.01, 0.015, 0.025}))
                       for (double span : {2.0, 1.5})
                       for (double lt : lows)
-                      for (double lf : lowflats) {
+                      for (double lf : lowflats)
+                      for (double ff : falls) {
                       if (lt == 0.0 && lf != lowflats[0]) continue;
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
@@ -275,6 +285,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.flat_growth_per_level = flat_growth;
                       c.low_target = lt;
                       c.low_flat = lf;
+                      c.fall_flat = ff;
                       r.flat_share_max = flat_max;
                       r.flat_max_strong = flat_strong;
                       out.push_back(c);
@@ -297,7 +308,7 @@ struct Fit {
 Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas,
             const std::vector<double>& only_sharp_lambdas, const std::vector<double>& flat_growths,
             const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow,
-            const std::vector<double>& lows, const std::vector<double>& lowflats) {
+            const std::vector<double>& lows, const std::vector<double>& lowflats, const std::vector<double>& falls) {
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -325,7 +336,7 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<doub
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
   f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas,
-                       flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats);
+                       flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats, falls);
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -428,6 +439,7 @@ int main(int argc, char** argv) {
   std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits offered
   bool narrow = false;
   std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
+  std::vector<double> falls = {0.0};  // the replay-only flat share below which crease_fall is off (Candidate)
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -450,7 +462,7 @@ int main(int argc, char** argv) {
     } lists[] = {{"--smooth-sigmas", &smooth_sigmas, true}, {"--flat-growths", &flat_growths, false},
                  {"--flat-maxes", &flat_maxes, false},      {"--flat-strongs", &flat_strongs, false},
                  {"--low-targets", &lows, true},            {"--low-flats", &lowflats, true},
-                 {"--sharp-lambdas", &sharp_lambdas, true}};
+                 {"--fall-flats", &falls, true},            {"--sharp-lambdas", &sharp_lambdas, true}};
     bool listed = false;
     for (const auto& l : lists)
       if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {
@@ -474,7 +486,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats);
+  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats, falls);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.
@@ -494,6 +506,7 @@ int main(int argc, char** argv) {
   std::printf("%zu pairs of %zu models with complete curves; %zu rule candidates\n\n", f.keys.size(), models.size(), f.cands.size());
   const std::size_t all = best_candidate(f, "");
   print_rules("fitted on all:", f.cands[all].rules);
+  if (f.cands[all].fall_flat > 0.0) std::printf("  (replay only: no crease-fall continuation below flat %.2f)\n", f.cands[all].fall_flat);
   if (f.cands[all].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[all].low_target, f.cands[all].low_flat);
   std::map<std::string, AutoRules> fold;
   double held = 0, wins = 0, worse = 0, more_flips = 0, peer_wins = 0, peer_pairs = 0;
@@ -501,6 +514,7 @@ int main(int argc, char** argv) {
     const std::size_t j = best_candidate(f, m);
     fold[m] = f.cands[j].rules;
     print_rules(("without " + m).c_str(), fold[m]);
+    if (f.cands[j].fall_flat > 0.0) std::printf("  (replay only: no crease-fall continuation below flat %.2f)\n", f.cands[j].fall_flat);
     if (f.cands[j].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[j].low_target, f.cands[j].low_flat);
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
       if (f.model_of[i] != m) continue;
