@@ -555,9 +555,7 @@ int main(int argc, char** argv) {
   std::vector<double> ratios;
   int rows = 0, beat = 0, bad = 0, flip_bad = 0, beat_peer = 0;
   for (const auto& model : bench::corpus_models(data)) {
-    if (!only.empty() && ("," + only + ",").find("," + model.name + ",") == std::string::npos &&
-        ("," + only + ",").find("," + model.group + ",") == std::string::npos)
-      continue;
+    if (!only.empty() && !bench::listed(model, only)) continue;
     const AutoRules rules = fold.count(model.group) ? fold[model.group] : f.cands[all].rules;
     for (const auto& pair : bench::load_pairs(model)) {
       long nf = 0, df = 0, af = 0;

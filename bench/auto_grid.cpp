@@ -71,11 +71,7 @@ int main(int argc, char** argv) {
   const std::vector<int> checkpoints = {1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 12,  14,  16,  18,  20,  23,  26,
                                         30, 35, 40, 45, 50, 60, 70, 80, 90, 100, 115, 130, 150, 175, 200};
   for (const auto& model : models) {
-    auto listed = [&model](const std::string& list) {  // by the model's name or its cross-validation group
-      return ("," + list + ",").find("," + model.name + ",") != std::string::npos ||
-             ("," + list + ",").find("," + model.group + ",") != std::string::npos;
-    };
-    if ((!only.empty() && !listed(only)) || (!skip.empty() && listed(skip))) continue;
+    if ((!only.empty() && !bench::listed(model, only)) || (!skip.empty() && bench::listed(model, skip))) continue;
     for (const auto& pair : bench::load_pairs(model)) {
       const auto t0 = std::chrono::steady_clock::now();
       FaceGeometry g;

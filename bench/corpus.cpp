@@ -81,10 +81,11 @@ std::vector<Model> corpus_models(const fs::path& data) {
   }
   // Coarser versions of the Igea scan (269k faces, so dense that neighbouring faces are nearly coplanar):
   // a smooth statue at the resolution of the organic meshes users bring, held back with the scan itself.
-  for (const std::size_t faces : {20000, 60000}) {
-    auto it = std::find_if(models.begin(), models.end(), [](const Model& m) { return m.name == "igea-tristrips"; });
-    if (it != models.end())
-      models.push_back({"igea-" + std::to_string(faces / 1000) + "k", it->kind, it->clean, {}, 0, it->name, false, faces});
+  const auto igea = std::find_if(models.begin(), models.end(), [](const Model& m) { return m.name == "igea-tristrips"; });
+  if (igea != models.end()) {
+    const Model scan = *igea;  // (push_back below may move the vector)
+    for (const std::size_t faces : {20000, 60000})
+      models.push_back({"igea-" + std::to_string(faces / 1000) + "k", scan.kind, scan.clean, {}, 0, scan.name, false, faces});
   }
   // A generated CAD part with locally refined bands: none of the files has such a tessellation.
   models.push_back({"refined-cylinder", "mechanical", {}, {}, 0, {}, true});
@@ -223,6 +224,12 @@ std::vector<double> parse_list(const char* s) {
   std::stringstream in(s);
   for (std::string tok; std::getline(in, tok, ',');) v.push_back(std::atof(tok.c_str()));
   return v;
+}
+
+bool listed(const Model& model, const std::string& list) {
+  const std::string padded = "," + list + ",";
+  const std::string group = model.group.empty() ? model.name : model.group;
+  return padded.find("," + model.name + ",") != std::string::npos || padded.find("," + group + ",") != std::string::npos;
 }
 
 std::optional<std::vector<Model>> corpus_models_from_args(int argc, char** argv) {

@@ -58,6 +58,10 @@ const std::vector<Variant>& corpus_variants();
 
 /// The models found under `data` (../shared/data); empty if the folder is absent.
 std::vector<Model> corpus_models(const std::filesystem::path& data);
+/// Whether `list` (comma-separated names, e.g. "spot,igea-tristrips") names the model or its
+/// cross-validation group (so a group's name selects its dense or coarse versions too).
+bool listed(const Model& model, const std::string& list);
+
 /// The models a corpus bench called as `NAME [DATA_DIR] [--only MODEL]` works on (default ../shared/data;
 /// with --only, that model alone). Nothing, after printing "skipped: ... not found", when the folder is
 /// absent, so the bench ends cleanly without the shared data. `--mesh FILE` (repeatable) takes that clean
