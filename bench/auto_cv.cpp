@@ -208,21 +208,29 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   return e ? Outcome{e->msae, e->flips, "sharp", e->it} : Outcome{p.noisy_msae, p.noisy_flips, "sharp", 0};
 }
 
+// What the command line offers the fit (the rest of the candidate list is fixed below).
+struct Offered {
+  std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels (grids must hold their curves)
+  std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights (empty: all the grids hold)
+  // (0.25, 0.3 and 0.4 offered too until 2026-12-05: every fold took 0.35)
+  std::vector<double> flat_growths = {0.0, 0.35};  // the flattening rule's growth limits (0: off)
+  std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits
+  bool narrow = false;  // the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took
+  std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
+  std::vector<double> falls = {0.0};  // the replay-only flat share below which crease_fall is off (Candidate)
+};
+
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
 std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, const std::vector<double>& smooth_lambdas,
-                                  const std::vector<double>& smooth_sigmas, const std::vector<double>& flat_growths,
-                                  const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow,
-                                  const std::vector<double>& lows, const std::vector<double>& lowflats,
-                                  const std::vector<double>& falls) {
+                                  const Offered& o) {
   std::vector<Candidate> out;
-  // narrow: the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took.
-  auto pick = [narrow](std::vector<double> all, std::vector<double> taken) { return narrow ? taken : all; };
+  auto pick = [narrow = o.narrow](std::vector<double> all, std::vector<double> taken) { return narrow ? taken : all; };
   // The flattening rule off is one candidate: the one with these (any values would do).
   auto off_value = [](const std::vector<double>& list, double usual) {
     return std::find(list.begin(), list.end(), usual) != list.end() ? usual : list.front();
   };
-  const double off_max = off_value(flat_maxes, 0.45), off_strong = off_value(flat_strongs, 1.0);
-  for (double smooth_sigma : smooth_sigmas)
+  const double off_max = off_value(o.flat_maxes, 0.45), off_strong = off_value(o.flat_strongs, 1.0);
+  for (double smooth_sigma : o.smooth_sigmas)
   for (double sharp_lambda : sharp_lambdas)
   for (double smooth_lambda : smooth_lambdas)
   for (double imp : {0.011})
@@ -243,16 +251,16 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                     for (double slack : {0.002})
                     for (double floor : pick({0.0, 0.7, 0.75, 0.8}, {0.75}))
                     for (double floor_level : pick({0.1, 0.15, 0.2}, {0.15}))
-                    for (double flat_growth : flat_growths)
-                    for (double flat_max : flat_maxes)
-                    for (double flat_strong : flat_strongs)
+                    for (double flat_growth : o.flat_growths)
+                    for (double flat_max : o.flat_maxes)
+                    for (double flat_strong : o.flat_strongs)
                       for (double fall : {0.0, 0.5, 0.7})
                       for (double plateau : pick({0.0, 0.01, 0.015, 0.02, 0.025}, {0.01, 0.015, 0.025}))
                       for (double span : {2.0, 1.5})
-                      for (double lt : lows)
-                      for (double lf : lowflats)
-                      for (double ff : falls) {
-                      if (lt == 0.0 && lf != lowflats[0]) continue;
+                      for (double lt : o.lows)
+                      for (double lf : o.lowflats)
+                      for (double ff : o.falls) {
+                      if (lt == 0.0 && lf != o.lowflats[0]) continue;  // (one "off")
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
                       if (floor != 0.0 && floor != 0.75 && floor_level != 0.15) continue;
@@ -305,10 +313,8 @@ struct Fit {
   std::vector<int> flips;
 };
 
-Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<double>& smooth_sigmas,
-            const std::vector<double>& only_sharp_lambdas, const std::vector<double>& flat_growths,
-            const std::vector<double>& flat_maxes, const std::vector<double>& flat_strongs, bool narrow,
-            const std::vector<double>& lows, const std::vector<double>& lowflats, const std::vector<double>& falls) {
+Fit prepare(const std::map<std::string, PairData>& pairs, const Offered& offered) {
+  const std::vector<double>& only_sharp_lambdas = offered.sharp_lambdas;
   Fit f;
   // The fidelity weights offered to the fit: those with curves for every pair at radius 3, no outlier mode.
   std::set<double> sharp_lambdas, smooth_lambdas;
@@ -335,8 +341,7 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const std::vector<doub
   }
   if (sharp_lambdas.empty()) sharp_lambdas = {0.2};
   if (smooth_lambdas.empty()) smooth_lambdas = {0.2};
-  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, smooth_sigmas,
-                       flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats, falls);
+  f.cands = candidates({sharp_lambdas.begin(), sharp_lambdas.end()}, {smooth_lambdas.begin(), smooth_lambdas.end()}, offered);
   for (const auto& [key, p] : pairs) {
     const auto d = p.curves.find(curve_key(0.7, 0.2, 2.0, 0.0));
     if (d == p.curves.end()) continue;
@@ -432,14 +437,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   int timing_runs = 3;  // the cost column: fastest of this many runs of --auto and of the plain run
   bool peer_objective = false;
-  std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels offered (grids must hold their curves)
-  std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights offered (empty: all the grids hold)
-  // (0.25, 0.3 and 0.4 offered too until 2026-12-05: every fold took 0.35)
-  std::vector<double> flat_growths = {0.0, 0.35};  // the flattening rule's growth limits offered (0: off)
-  std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits offered
-  bool narrow = false;
-  std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
-  std::vector<double> falls = {0.0};  // the replay-only flat share below which crease_fall is off (Candidate)
+  Offered offered;
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--timing-runs") == 0 && i + 1 < argc) {
@@ -459,10 +457,10 @@ int main(int argc, char** argv) {
       const char* flag;
       std::vector<double>* list;
       bool fit_only;
-    } lists[] = {{"--smooth-sigmas", &smooth_sigmas, true}, {"--flat-growths", &flat_growths, false},
-                 {"--flat-maxes", &flat_maxes, false},      {"--flat-strongs", &flat_strongs, false},
-                 {"--low-targets", &lows, true},            {"--low-flats", &lowflats, true},
-                 {"--fall-flats", &falls, true},            {"--sharp-lambdas", &sharp_lambdas, true}};
+    } lists[] = {{"--smooth-sigmas", &offered.smooth_sigmas, true}, {"--flat-growths", &offered.flat_growths, false},
+                 {"--flat-maxes", &offered.flat_maxes, false},      {"--flat-strongs", &offered.flat_strongs, false},
+                 {"--low-targets", &offered.lows, true},            {"--low-flats", &offered.lowflats, true},
+                 {"--fall-flats", &offered.falls, true},            {"--sharp-lambdas", &offered.sharp_lambdas, true}};
     bool listed = false;
     for (const auto& l : lists)
       if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {
@@ -472,7 +470,7 @@ int main(int argc, char** argv) {
       }
     if (listed) continue;
     if (std::strcmp(argv[i], "--narrow") == 0) {
-      narrow = true;
+      offered.narrow = true;
       continue;
     }
     if (std::strcmp(argv[i], "--peer-objective") == 0) {
@@ -486,7 +484,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const auto pairs = load_grids(files);
-  Fit f = prepare(pairs, smooth_sigmas, sharp_lambdas, flat_growths, flat_maxes, flat_strongs, narrow, lows, lowflats, falls);
+  Fit f = prepare(pairs, offered);
   f.peer_objective = peer_objective;
   // The peer's scores (MSAE, flipped faces) by pair, where the corpus is at hand: the fit then also counts
   // the pairs where --auto beats it, and the table shows them.
