@@ -19,9 +19,9 @@
 //                    [--low-targets a,b,.. --low-flats a,b,..]  replay only, not in AutoRules: a feature-
 //                                                keeping run with fewer nearly flat edges than the latter at
 //                                                the probe stops at the former x the noise (0 = off)
-//                    [--fall-flats a,b,..]       replay only, not in AutoRules: a feature-keeping run with
+//                    [--fall-flats a,b,..]       crease_fall_min_flat offered: a feature-keeping run with
 //                                                fewer nearly flat edges than this at the probe does not go on
-//                                                while its soft creases fall (0 = always does)
+//                                                while its soft creases fall (0 = always does; default 0,0.3)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -77,9 +77,6 @@ struct Candidate {
   // low_flat nearly flat edges at the probe (and creases over 45 degrees below flat_max_strong) stops at
   // low_target x the noise instead of sharp_target (0 = off).
   double low_target = 0.0, low_flat = 0.0;
-  // Replay only (not in AutoRules; --fall-flats): a feature-keeping run with fewer nearly flat edges than
-  // this at the probe does not go on while its soft creases fall (crease_fall off for it; 0 = always on).
-  double fall_flat = 0.0;
 };
 
 double noise_of(const PairData& p, int statistic) { return statistic == 0 ? p.jmed : statistic == 1 ? p.jrms : p.jtrim; }
@@ -160,7 +157,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
       if (c.it == r.probe_iterations / 2) flat_half = c.flat;
   const double target = r.sharp_target > 0.0 ? r.sharp_target * noise : 0.0;
   double sharp_t = target;  // lowered at the probe by the replay-only low target
-  AutoRules walk_rules = r;  // crease_fall switched off at the probe by the replay-only fall_flat
+  AutoRules walk_rules = r;  // crease_fall switched off at the probe below crease_fall_min_flat
   auto decide = [&](const Checkpoint& c) {
     if (c.it == r.probe_iterations) {
       creases = c.s20 - c.s45;
@@ -172,7 +169,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
           return false;
         }
         if (cand.low_target > 0.0 && c.flat >= 0.0 && c.flat < cand.low_flat && c.s45 < r.flat_max_strong) sharp_t = cand.low_target * noise;
-        if (cand.fall_flat > 0.0 && c.flat >= 0.0 && c.flat < cand.fall_flat) walk_rules.crease_fall = 0.0;
+        if (c.flat >= 0.0 && c.flat < r.crease_fall_min_flat) walk_rules.crease_fall = 0.0;
         return true;
       }
       decided_smooth = true;
@@ -217,7 +214,7 @@ struct Offered {
   std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits
   bool narrow = false;  // the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took
   std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
-  std::vector<double> falls = {0.0};  // the replay-only flat share below which crease_fall is off (Candidate)
+  std::vector<double> falls = {0.0, 0.3};  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
 };
 
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
@@ -293,7 +290,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       r.flat_growth_per_level = flat_growth;
                       c.low_target = lt;
                       c.low_flat = lf;
-                      c.fall_flat = ff;
+                      r.crease_fall_min_flat = ff;
                       r.flat_share_max = flat_max;
                       r.flat_max_strong = flat_strong;
                       out.push_back(c);
@@ -407,9 +404,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 
 void print_rules(const char* label, const AutoRules& r) {
   std::printf("%-16s impulsive>%.3f outliers>%.0fx%s %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way; levelled below +%.3f by %.1ft) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f\n",
+              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way from flat %.2f; levelled below +%.3f by %.1ft) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f\n",
               label, r.impulsive_share, r.outlier_jump, r.outlier_peaks ? " peaks" : "", r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.plateau_growth, r.plateau_span, r.turned_slack,
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.crease_fall_min_flat, r.plateau_growth, r.plateau_span, r.turned_slack,
               r.flat_growth_per_level, r.flat_share_max, r.flat_max_strong);
 }
 
@@ -460,7 +457,7 @@ int main(int argc, char** argv) {
     } lists[] = {{"--smooth-sigmas", &offered.smooth_sigmas, true}, {"--flat-growths", &offered.flat_growths, false},
                  {"--flat-maxes", &offered.flat_maxes, false},      {"--flat-strongs", &offered.flat_strongs, false},
                  {"--low-targets", &offered.lows, true},            {"--low-flats", &offered.lowflats, true},
-                 {"--fall-flats", &offered.falls, true},            {"--sharp-lambdas", &offered.sharp_lambdas, true}};
+                 {"--fall-flats", &offered.falls, false},            {"--sharp-lambdas", &offered.sharp_lambdas, true}};
     bool listed = false;
     for (const auto& l : lists)
       if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {
@@ -504,7 +501,6 @@ int main(int argc, char** argv) {
   std::printf("%zu pairs of %zu models with complete curves; %zu rule candidates\n\n", f.keys.size(), models.size(), f.cands.size());
   const std::size_t all = best_candidate(f, "");
   print_rules("fitted on all:", f.cands[all].rules);
-  if (f.cands[all].fall_flat > 0.0) std::printf("  (replay only: no crease-fall continuation below flat %.2f)\n", f.cands[all].fall_flat);
   if (f.cands[all].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[all].low_target, f.cands[all].low_flat);
   std::map<std::string, AutoRules> fold;
   double held = 0, wins = 0, worse = 0, more_flips = 0, peer_wins = 0, peer_pairs = 0;
@@ -512,7 +508,6 @@ int main(int argc, char** argv) {
     const std::size_t j = best_candidate(f, m);
     fold[m] = f.cands[j].rules;
     print_rules(("without " + m).c_str(), fold[m]);
-    if (f.cands[j].fall_flat > 0.0) std::printf("  (replay only: no crease-fall continuation below flat %.2f)\n", f.cands[j].fall_flat);
     if (f.cands[j].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[j].low_target, f.cands[j].low_flat);
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
       if (f.model_of[i] != m) continue;

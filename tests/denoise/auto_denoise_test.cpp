@@ -248,6 +248,30 @@ TEST(AutoDenoise, AZipperedRefinedCylinderRunsWhileItsCreasesFall) {
   EXPECT_LT(evaluate(with, &clean).flipped_faces, evaluate(input, &clean).flipped_faces / 4);
 }
 
+// The continuation is for surfaces with flat faces: it is switched off by the share of nearly flat edges
+// at the probe (a curved or bumpy surface's creases falling are its shape being rounded off). The same
+// zippered cylinder with the limit just above its own flat share stops soon after the probe.
+TEST(AutoDenoise, TheCreaseFallContinuationNeedsFlatEdgesAtTheProbe) {
+  const Mesh input = noisy(test::make_zippered_cylinder(), 0.3);
+  Mesh with = input, without = input;
+  const AutoRules shipped;
+  const AutoReport a = denoise_auto(with, {}, {}, shipped);
+  ASSERT_EQ(a.mode, "sharp") << a.reason;
+  ASSERT_GE(a.flat_share, shipped.crease_fall_min_flat);
+  EXPECT_GT(a.run.iterations, 100) << a.reason;
+  AutoRules above = shipped;
+  above.crease_fall_min_flat = a.flat_share + 0.01;
+  const AutoReport b = denoise_auto(without, {}, {}, above);
+  ASSERT_EQ(b.mode, "sharp") << b.reason;
+  EXPECT_DOUBLE_EQ(b.flat_share, a.flat_share);  // the same run up to the probe
+  // Past its target since iteration 9, it takes the target at the first step after the probe (and then
+  // ends there, or runs on if its displacement has levelled off: the plateau rule); the shipped run
+  // follows its falling creases further.
+  const int b_target = b.levelled_at > 0 ? b.levelled_at : b.run.iterations;
+  EXPECT_EQ(b_target, shipped.probe_iterations + 1) << b.reason;
+  EXPECT_GT(a.levelled_at > 0 ? a.levelled_at : a.run.iterations, b_target) << a.reason;
+}
+
 TEST(AutoDenoise, DenoisesASphereWithoutShrinkingIt) {
   const Mesh clean = test::make_sphere(4);
   Mesh m = noisy(clean, 0.3);

@@ -111,6 +111,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // before looking on, with what the run keeps at the target: true ends the run there (a mesh the probe
   // would call smooth need not run on).
   int levelled_at = 0;
+  bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
@@ -181,7 +182,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           return false;
         }
         if (d >= target) {
-          const bool falling = track && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
+          const bool falling = track && !fall_off && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
           if (!falling) {
             reached = true;
             if (!plateau || (ends_at_target && ends_at_target(accepted, last_pass))) return false;
@@ -320,6 +321,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       flattened = flat < rules.flat_share_max && flat - flat_half < rules.flat_growth_per_level * na.level && bends > rules.flat_min_bends &&
                   strong < rules.flat_max_strong;
       if (flattened) return Probe::stop;
+      fall_off = flat < rules.crease_fall_min_flat;
     }
     // Clearly machined: flat faces keep improving long after the noise-sized displacement.
     clear = rules.clear_sharp_share > 0.0 && creases < rules.clear_sharp_share && !is_given("target_displacement");
