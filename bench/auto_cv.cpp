@@ -354,7 +354,9 @@ Fit prepare(const std::map<std::string, PairData>& pairs, const Offered& offered
     f.keys.push_back(key);
     f.model_of.push_back(p.model);
     f.defaults.push_back(dm);
-    f.noisy.push_back(p.noisy_msae);
+    // Rounded as the replayed scores are (f.msae is float): a run that returns the input scores exactly
+    // the input's MSAE, not above it.
+    f.noisy.push_back(static_cast<float>(p.noisy_msae));
     f.noisy_flips.push_back(p.noisy_flips);
     f.peer.push_back(HUGE_VAL);
   }
