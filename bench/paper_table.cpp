@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -45,7 +46,7 @@ void print(const std::string& model, const std::string& label, const DenoiseOpti
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   namespace fs = std::filesystem;
   fs::path dir = "../shared/data/pairs";
   for (int i = 1; i < argc; ++i) {
@@ -57,7 +58,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::vector<std::string> models;
-  for (const auto& e : fs::directory_iterator(dir)) models.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir))  // one folder per pair (clean.obj, noisy.obj)
+    if (e.is_directory()) models.push_back(e.path().filename().string());
   std::sort(models.begin(), models.end());
   std::printf("threads: %d\n\n", thread_count());
   std::printf("| model | run | (sigma_s, lambda, p) | MSAE deg | E_v / diag | Q | flips | seconds |\n");
@@ -112,4 +114,13 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // e.g. a pair folder without its clean.obj
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
 }
