@@ -120,6 +120,11 @@ TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {
   EXPECT_NE(json.find("\"mode\": \"" + a.mode + "\"", decision), std::string::npos) << json;
   for (const char* key : {"\"noise_level\": ", "\"soft_crease_share\": ", "\"stop_reason\": ", "\"check\": "})
     EXPECT_NE(json.find(key), std::string::npos) << key;
+  // A share the run did not measure (here: no flat-edge shares, the run ends before the probe) is left
+  // out, never written as -1.
+  ASSERT_LT(a.flat_share, 0.0) << a.reason;
+  for (const char* key : {"\"soft_crease_share\": -", "\"flat_edge_share\": -", "\"flat_edge_share_half_probe\": -"})
+    EXPECT_EQ(json.find(key), std::string::npos) << key;
   EXPECT_NE(html.find("Decision of mesh.denoise"), std::string::npos);
   EXPECT_EQ(read_file(path("out.ply")), [&] {
     write_mesh(m, path("api.ply"));

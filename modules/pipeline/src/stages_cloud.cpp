@@ -32,8 +32,8 @@ struct VoxelStage : Stage {
       std::snprintf(buf, sizeof buf, "%zu points: nothing to do", r.before);
     }
     details = buf;
-    decision_numbers = {{"points_before", static_cast<double>(r.before)}, {"points_after", static_cast<double>(r.after)},
-                        {"voxel_edge", r.leaf}};
+    decision_numbers = {{"points_before", static_cast<double>(r.before)}, {"points_after", static_cast<double>(r.after)}};
+    if (r.leaf > 0.0) decision_numbers.emplace_back("voxel_edge", r.leaf);
   }
 };
 
@@ -69,6 +69,10 @@ struct DequantizeStage : Stage {
                     r.applied ? (std::to_string(r.moved) + " points moved onto ramps between the depth levels").c_str()
                               : (r.quantized ? "quantized, left as is" : "not quantized, left as is"));
       details = buf;
+    }
+    if (!r.organized) {  // nothing was measured
+      decision_text = {{"organized", "no"}};
+      return;
     }
     decision_text = {{"quantized", r.quantized ? "yes" : "no"}, {"dequantized", r.applied ? "yes" : "no"}};
     decision_numbers = {{"distinct_depths", static_cast<double>(r.distinct_depths)},

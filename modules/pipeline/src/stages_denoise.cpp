@@ -1,5 +1,6 @@
 // mesh.denoise and mesh.noise.
 #include <cstdio>
+#include <utility>
 
 #include "scanmesh/add_noise.h"
 #include "scanmesh/auto_denoise.h"
@@ -59,11 +60,13 @@ struct DenoiseStage : Stage {
     decision_numbers = {{"noise_level", a.noise_level},
                         {"noise", a.noise},
                         {"exact_plane_fraction", a.exact_plane_fraction},
-                        {"isolated_outlier_share", a.impulsive_share},
-                        {"soft_crease_share", a.crease_share},
-                        {"flat_edge_share", a.flat_share},
-                        {"flat_edge_share_half_probe", a.flat_share_half},
-                        {"sigma_s", a.options.sigma_s},
+                        {"isolated_outlier_share", a.impulsive_share}};
+    // Shares the run did not measure (no probe ran, or its rule is off) are left out rather than shown as -1.
+    for (const auto& [key, share] : {std::pair<const char*, double>{"soft_crease_share", a.crease_share},
+                                     {"flat_edge_share", a.flat_share},
+                                     {"flat_edge_share_half_probe", a.flat_share_half}})
+      if (share >= 0.0) decision_numbers.emplace_back(key, share);
+    decision_numbers.insert(decision_numbers.end(), {{"sigma_s", a.options.sigma_s},
                         {"lambda", a.options.lambda},
                         {"radius_factor", a.options.radius_factor},
                         {"iterations", static_cast<double>(a.run.iterations)},
@@ -71,7 +74,7 @@ struct DenoiseStage : Stage {
                         {"levelled_at", static_cast<double>(a.levelled_at)},
                         {"displacement", a.run.displacement},
                         {"folds", static_cast<double>(a.unfold.folds)},
-                        {"folds_left", static_cast<double>(a.unfold.remaining)}};
+                        {"folds_left", static_cast<double>(a.unfold.remaining)}});
     warn_capped(a.run, m, ctx);
     if (a.check != "passed" && a.check != "not needed")
       ctx.warnings.push_back("mesh.denoise: the result check ended the run early (" + a.check + "); the last iteration that passed is kept");
