@@ -240,6 +240,11 @@ TEST(AutoDenoise, AZipperedRefinedCylinderRunsWhileItsCreasesFall) {
   EXPECT_EQ(b.run.stop_reason, "target displacement");
   EXPECT_LT(b.run.iterations, 12);
   EXPECT_GT(a.run.iterations, 100) << a.reason;
+  // ...and says so.
+  EXPECT_GT(a.ran_past_target, 0);
+  EXPECT_LT(a.ran_past_target, 12);
+  EXPECT_NE(a.reason.find("still falling"), std::string::npos) << a.reason;
+  EXPECT_EQ(b.ran_past_target, 0);
   const double msae = evaluate(with, &clean).msae_deg;
   EXPECT_LT(msae, evaluate(without, &clean).msae_deg);
   // Within 2% of the plain defaults' 100 iterations (better before the sliver guard, which helps the plain

@@ -76,7 +76,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   r.exact_plane_fraction = na.exact_plane_fraction;
   r.impulsive_share = na.isolated_outlier_share;
   const double edge = na.mean_edge > 0.0 ? na.mean_edge : 1.0;
-  char line[256];
+  char line[512];
 
   // What the result check compares against: the input's normals after four passes of the wide filter
   // (noise flips a face relative to its own neighbourhood, denoising must not). Its neighbourhoods (and
@@ -112,6 +112,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // would call smooth need not run on).
   int levelled_at = 0;
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
+  int ran_past_target = 0;  // where the continuation first kept the run going past its target
   using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
@@ -183,6 +184,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         }
         if (d >= target) {
           const bool falling = track && !fall_off && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
+          if (falling && ran_past_target == 0) ran_past_target = it;
           if (!falling) {
             reached = true;
             if (!plateau || (ends_at_target && ends_at_target(accepted, last_pass))) return false;
@@ -383,8 +385,11 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                     "of the surface than the noise did; the input's creases are its noise); the feature-keeping run kept %d iterations",
                     nothing_at_target ? "displacement target" : "probe", rep.iterations);
     else if (decide)
-      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases%s",
+      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases%s%s",
                     std::min(rep.iterations, rules.probe_iterations), 100.0 * creases,
+                    ran_past_target > 0 ? ("; went on past the displacement target at iteration " + std::to_string(ran_past_target) +
+                                           " while its soft creases were still falling fast").c_str()
+                                        : "",
                     clear             ? " (clearly machined: no displacement stop)"
                     : levelled_at > 0 ? "; the displacement levelled off after the target (no displacement stop)"
                                       : "");
@@ -394,6 +399,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.reason = line;
     mesh = std::move(trial);
     r.levelled_at = levelled_at;
+    r.ran_past_target = ran_past_target;
     r.run = rep;
     r.check = verdict;
     r.options = sharp;

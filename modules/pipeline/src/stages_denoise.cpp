@@ -72,6 +72,7 @@ struct DenoiseStage : Stage {
                         {"iterations", static_cast<double>(a.run.iterations)},
                         {"probe_iterations", static_cast<double>(a.probe_iterations)},
                         {"levelled_at", static_cast<double>(a.levelled_at)},
+                        {"ran_past_target", static_cast<double>(a.ran_past_target)},
                         {"displacement", a.run.displacement},
                         {"folds", static_cast<double>(a.unfold.folds)},
                         {"folds_left", static_cast<double>(a.unfold.remaining)}});

@@ -145,6 +145,9 @@ struct AutoReport {
   DenoiseReport run;           ///< iterations, stop reason, timings of the final run
   int probe_iterations = 0;    ///< iterations spent on a probe that was discarded
   int levelled_at = 0;         ///< the feature-keeping run's target iteration, when its displacement levelled off after it (0: did not)
+  /// The first iteration at which the feature-keeping run had reached its target but went on because its
+  /// soft creases were still falling fast (AutoRules::crease_fall; 0: never).
+  int ran_past_target = 0;
   std::string check;           ///< outcome of the result check
   UnfoldReport unfold;         ///< folds found after the run and left after unfolding (step 6)
 };
