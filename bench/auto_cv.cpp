@@ -43,7 +43,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -110,6 +109,12 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
     const bool fails = (by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed;
     if (!fails) last = &c;
     if (fails && last && last->it > 0 && r.check_patience > 0 && c.it - last->it >= r.check_patience) break;
+    // As the real run: at the probe's own iteration the probe is asked before the target.
+    const bool first = c.it == r.probe_iterations;
+    if (first && !probe(c)) {
+      probed_out = true;
+      break;
+    }
     if (target > 0.0 && c.ndisp >= target) {
       const Checkpoint* half = nullptr;
       if (while_falling && r.crease_fall > 0.0)
@@ -120,7 +125,7 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
         break;
       }
     }
-    if (!probe(c)) {
+    if (!first && !probe(c)) {
       probed_out = true;
       break;
     }

@@ -269,11 +269,11 @@ TEST(AutoDenoise, TheCreaseFallContinuationNeedsFlatEdgesAtTheProbe) {
   const AutoReport b = denoise_auto(without, {}, {}, above);
   ASSERT_EQ(b.mode, "sharp") << b.reason;
   EXPECT_DOUBLE_EQ(b.flat_share, a.flat_share);  // the same run up to the probe
-  // Past its target since iteration 9, it takes the target at the first step after the probe (and then
-  // ends there, or runs on if its displacement has levelled off: the plateau rule); the shipped run
-  // follows its falling creases further.
+  // Past its target since iteration 9, it takes the target at the probe itself (asked before the target
+  // there), and then ends, or runs on if its displacement has levelled off (the plateau rule); the
+  // shipped run follows its falling creases further.
   const int b_target = b.levelled_at > 0 ? b.levelled_at : b.run.iterations;
-  EXPECT_EQ(b_target, shipped.probe_iterations + 1) << b.reason;
+  EXPECT_EQ(b_target, shipped.probe_iterations) << b.reason;
   EXPECT_GT(a.levelled_at > 0 ? a.levelled_at : a.run.iterations, b_target) << a.reason;
 }
 
@@ -441,6 +441,32 @@ TEST(AutoDenoise, TheFlatteningRuleTellsACurvedSurfaceFromAMachinedPart) {
     const AutoReport rc = denoise_auto(c, given, fields, on);
     EXPECT_EQ(rc.mode, "sharp") << part.num_faces() << " faces: " << rc.reason;
   }
+}
+
+// The probe's iteration is the decision point even when the run reaches its displacement target right
+// there: the probe is asked first, so the flattening rule judges the run too (before, the target ended it
+// and only the crease share was looked at). The bumpy sphere reaches its target after a few iterations;
+// with the probe moved to that very iteration, the flat-edge shares are measured.
+TEST(AutoDenoise, ARunThatReachesItsTargetAtTheProbeIsJudgedByEveryProbeRule) {
+  const Mesh input = noisy(bumpy_sphere(), 0.3, NoiseKind::gaussian, 3);
+  AutoRules late;
+  late.probe_iterations = 1000;  // never reached: the run ends at its target
+  late.plateau_growth = 0.0;
+  late.crease_fall = 0.0;
+  Mesh a = input, b = input;
+  const AutoReport ra = denoise_auto(a, {}, {}, late);
+  ASSERT_EQ(ra.run.stop_reason, "target displacement") << ra.reason;
+  ASSERT_GE(ra.run.iterations, 2);
+  EXPECT_LT(ra.flat_share, 0.0);  // no probe ran
+  AutoRules at = late;
+  at.probe_iterations = ra.run.iterations;
+  const AutoReport rb = denoise_auto(b, {}, {}, at);
+  EXPECT_GE(rb.flat_share_half, 0.0) << rb.reason;
+  EXPECT_GE(rb.flat_share, 0.0) << rb.reason;
+  // ...and the rule takes the curved surface for what it is (the crease share alone had called it sharp).
+  EXPECT_EQ(ra.mode, "sharp") << ra.reason;
+  EXPECT_EQ(rb.mode, "smooth") << rb.reason;
+  EXPECT_NE(rb.reason.find("flat"), std::string::npos) << rb.reason;
 }
 
 // The result check keeps the last iteration that passed; once iterations fail check_patience times in a
