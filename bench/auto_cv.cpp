@@ -22,6 +22,9 @@
 //                    [--fall-flats a,b,..]       crease_fall_min_flat offered: a feature-keeping run with
 //                                                fewer nearly flat edges than this at the probe does not go on
 //                                                while its soft creases fall (0 = always does; default 0,0.3)
+//                    [--early-flats a,b,..]      replay only: a run that reaches its target before the probe
+//                                                is also judged by the flattening rule there (0 off, 1 the
+//                                                probe's growth limit, 2 that limit scaled to the iterations)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; README)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -76,6 +79,10 @@ struct Candidate {
   // low_flat nearly flat edges at the probe (and creases over 45 degrees below flat_max_strong) stops at
   // low_target x the noise instead of sharp_target (0 = off).
   double low_target = 0.0, low_flat = 0.0;
+  // Replay only (--early-flats): a run that reaches its target before the probe is also judged by the
+  // flattening rule there, with its flat shares at the target and at half of it (1: the probe's growth
+  // limit; 2: that limit scaled to the iterations between the two; 0: off).
+  int early_flat = 0;
 };
 
 double noise_of(const PairData& p, int statistic) { return statistic == 0 ? p.jmed : statistic == 1 ? p.jrms : p.jtrim; }
@@ -187,6 +194,19 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   if (creases < 0.0 && e) {  // the run ended before the first probe
     creases = e->s20 - e->s45;
     decided_smooth = creases > limit;
+    if (cand.early_flat > 0 && !decided_smooth && target_it >= 2 && r.flat_growth_per_level > 0.0) {
+      const Checkpoint* at = nullptr;
+      const Checkpoint* half = nullptr;
+      for (const Checkpoint& c : *sharp) {
+        if (c.it == target_it) at = &c;
+        if (c.it >= 1 && c.it <= target_it / 2) half = &c;
+      }
+      if (at && half && at->flat >= 0.0 && half->flat >= 0.0) {
+        double g = r.flat_growth_per_level * p.level;
+        if (cand.early_flat == 2) g *= static_cast<double>(at->it - half->it) / (r.probe_iterations - r.probe_iterations / 2);
+        decided_smooth = at->flat < r.flat_share_max && at->flat - half->flat < g && at->s20 > r.flat_min_bends && at->s45 < r.flat_max_strong;
+      }
+    }
   }
   // The plateau rule: at its target (iteration t) the run looks on to plateau_end(t); if the displacement grew
   // by less than r.plateau_growth of itself meanwhile, the surface has levelled off and every iteration runs.
@@ -219,7 +239,8 @@ struct Offered {
   std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits
   bool narrow = false;  // the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took
   std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
-  std::vector<double> falls = {0.0, 0.3};  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
+  std::vector<double> falls = {0.0, 0.3};
+  std::vector<double> early_flats = {0.0};  // the replay-only early flattening judgement (Candidate)  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
 };
 
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
@@ -261,7 +282,8 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       for (double span : {2.0, 1.5})
                       for (double lt : o.lows)
                       for (double lf : o.lowflats)
-                      for (double ff : o.falls) {
+                      for (double ff : o.falls)
+                      for (double ef : o.early_flats) {
                       if (lt == 0.0 && lf != o.lowflats[0]) continue;  // (one "off")
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
@@ -296,6 +318,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       c.low_target = lt;
                       c.low_flat = lf;
                       r.crease_fall_min_flat = ff;
+                      c.early_flat = static_cast<int>(ef);
                       r.flat_share_max = flat_max;
                       r.flat_max_strong = flat_strong;
                       out.push_back(c);
@@ -464,7 +487,8 @@ int main(int argc, char** argv) {
     } lists[] = {{"--smooth-sigmas", &offered.smooth_sigmas, true}, {"--flat-growths", &offered.flat_growths, false},
                  {"--flat-maxes", &offered.flat_maxes, false},      {"--flat-strongs", &offered.flat_strongs, false},
                  {"--low-targets", &offered.lows, true},            {"--low-flats", &offered.lowflats, true},
-                 {"--fall-flats", &offered.falls, false},            {"--sharp-lambdas", &offered.sharp_lambdas, true}};
+                 {"--fall-flats", &offered.falls, false},            {"--sharp-lambdas", &offered.sharp_lambdas, true},
+                 {"--early-flats", &offered.early_flats, true}};
     bool listed = false;
     for (const auto& l : lists)
       if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {
@@ -508,6 +532,7 @@ int main(int argc, char** argv) {
   std::printf("%zu pairs of %zu models with complete curves; %zu rule candidates\n\n", f.keys.size(), models.size(), f.cands.size());
   const std::size_t all = best_candidate(f, "");
   print_rules("fitted on all:", f.cands[all].rules);
+  if (f.cands[all].early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", f.cands[all].early_flat);
   if (f.cands[all].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[all].low_target, f.cands[all].low_flat);
   std::map<std::string, AutoRules> fold;
   double held = 0, wins = 0, worse = 0, more_flips = 0, peer_wins = 0, peer_pairs = 0;
@@ -515,6 +540,7 @@ int main(int argc, char** argv) {
     const std::size_t j = best_candidate(f, m);
     fold[m] = f.cands[j].rules;
     print_rules(("without " + m).c_str(), fold[m]);
+    if (f.cands[j].early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", f.cands[j].early_flat);
     if (f.cands[j].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[j].low_target, f.cands[j].low_flat);
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
       if (f.model_of[i] != m) continue;
