@@ -13,6 +13,8 @@
 namespace scanmesh {
 namespace {
 
+const char* plural(int n) { return n == 1 ? "" : "s"; }  // "1 iteration", "14 iterations"
+
 // Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg] (bend_share) at
 // `positions`: soft creases for (20, 45]. Real features of machined parts are sharper; noise a
 // feature-keeping filter locked in is not.
@@ -371,14 +373,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.mode = "smooth";
     if (flattened)
       std::snprintf(line, sizeof line,
-                    "smooth shape: after %d feature-keeping iterations only %.0f%% of the edges are flat (within %.0f deg), "
+                    "smooth shape: after %d feature-keeping iteration%s only %.0f%% of the edges are flat (within %.0f deg), "
                     "%.1f points more than at %d: a curved surface the narrow kernel cuts into facets",
-                    rep.iterations, 100.0 * flat, rules.flat_max_deg, 100.0 * (flat - flat_half), rules.probe_iterations / 2);
+                    rep.iterations, plural(rep.iterations), 100.0 * flat, rules.flat_max_deg, 100.0 * (flat - flat_half), rules.probe_iterations / 2);
     else
       std::snprintf(line, sizeof line,
-                    "smooth shape: after %d feature-keeping iterations %.1f%% of the edges are still soft creases (%.0f-%.0f deg; "
+                    "smooth shape: after %d feature-keeping iteration%s %.1f%% of the edges are still soft creases (%.0f-%.0f deg; "
                     "limit %.1f%%): noise the narrow kernel locked in",
-                    rep.iterations, 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
+                    rep.iterations, plural(rep.iterations), 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
     r.reason = line;
     r.probe_iterations = rep.iterations;
     auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false);
@@ -391,11 +393,11 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     if (nothing_kept)
       std::snprintf(line, sizeof line,
                     "not judged: no feature-keeping iteration passed the result check before the %s (denoising turns more "
-                    "of the surface than the noise did; the input's creases are its noise); the feature-keeping run kept %d iterations",
-                    nothing_at_target ? "displacement target" : "probe", rep.iterations);
+                    "of the surface than the noise did; the input's creases are its noise); the feature-keeping run kept %d iteration%s",
+                    nothing_at_target ? "displacement target" : "probe", rep.iterations, plural(rep.iterations));
     else if (decide)
-      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iterations only %.1f%% of the edges are soft creases%s%s",
-                    std::min(rep.iterations, rules.probe_iterations), 100.0 * creases,
+      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iteration%s only %.1f%% of the edges are soft creases%s%s",
+                    std::min(rep.iterations, rules.probe_iterations), plural(std::min(rep.iterations, rules.probe_iterations)), 100.0 * creases,
                     ran_past_target > 0 ? ("; went on past the displacement target at iteration " + std::to_string(ran_past_target) +
                                            " while its soft creases were still falling fast").c_str()
                                         : "",
