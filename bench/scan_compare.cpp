@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,7 +39,7 @@ void report(const char* model, const char* stage, const Mesh& m, const Mesh& cle
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   namespace fs = std::filesystem;
   fs::path dir = "../shared/data/pairs";
   double voxel = 0.0;
@@ -90,4 +91,13 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // e.g. a model name with no pair folder
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
 }
