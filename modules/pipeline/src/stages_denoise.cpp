@@ -41,16 +41,16 @@ struct DenoiseStage : Stage {
                       100.0 * r.exact_plane_fraction);
         ctx.warnings.emplace_back(buf);
       }
-      std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, %d iterations, radius factor %.3g", o.sigma_s, o.lambda, r.iterations,
-                    o.radius_factor);
+      std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, %d iteration%s, radius factor %.3g", o.sigma_s, o.lambda, r.iterations,
+                    r.iterations == 1 ? "" : "s", o.radius_factor);
       details = buf;
       warn_capped(r, m, ctx);
       return;
     }
     const AutoReport a = denoise_auto(m, o, given, {}, report_progress);
-    std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iterations (%s), radius factor %.3g; check %s",
+    std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iteration%s (%s), radius factor %.3g; check %s",
                   a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
-                  a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
+                  a.run.iterations == 1 ? "" : "s", a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
     details = buf;
     if (a.unfold.folds > 0) {
       std::snprintf(buf, sizeof buf, "; folds unfolded %zu of %zu", a.unfold.folds - a.unfold.remaining, a.unfold.folds);
