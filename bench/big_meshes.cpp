@@ -5,13 +5,13 @@
 //   writes OUT_DIR/dragon-L<k>.ply for k = 0..N (202k, 809k, 3.2M faces, ...)
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <string>
 #include <unordered_map>
 
 #include "scanmesh/add_noise.h"
 #include "scanmesh/mesh_io.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 namespace fs = std::filesystem;
@@ -69,11 +69,4 @@ static int run(int argc, char** argv) {
   return 0;
 }
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -16,6 +15,7 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/parallel.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
@@ -116,11 +116,4 @@ int run(int argc, char** argv) {
   return 0;
 }
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {  // e.g. a pair folder without its clean.obj
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

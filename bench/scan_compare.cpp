@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -20,6 +19,7 @@
 #include "scanmesh/triangulate.h"
 #include "scanmesh/combine_views.h"
 #include "scanmesh/virtual_scan.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
@@ -93,11 +93,4 @@ int run(int argc, char** argv) {
   return 0;
 }
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {  // e.g. a model name with no pair folder
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }
