@@ -96,9 +96,10 @@ struct Outcome {
 
 // Walks a curve like the real run: a checkpoint the result check (turned surface) fails is not kept, and
 // the run goes on (for at most r.check_patience failing iterations after one that passed); the
-// discrepancy target stops; `probe` (returns false to stop) is asked at its iteration.
+// discrepancy target stops; `probe` (returns false to stop) is asked at every checkpoint, before the target.
 // With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
+// `r` and `target` are references: the probe may change them for the rest of the walk (replay()).
 template <class Probe>
 const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, const double& target, int cap, Probe probe,
                        bool& probed_out, bool while_falling = false, int* target_it = nullptr) {
@@ -116,9 +117,8 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
     const bool fails = (by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed;
     if (!fails) last = &c;
     if (fails && last && last->it > 0 && r.check_patience > 0 && c.it - last->it >= r.check_patience) break;
-    // As the real run: at the probe's own iteration the probe is asked before the target.
-    const bool first = c.it == r.probe_iterations;
-    if (first && !probe(c)) {
+    // As the real run: the probe is asked before the target.
+    if (!probe(c)) {
       probed_out = true;
       break;
     }
@@ -131,10 +131,6 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
         if (target_it) *target_it = c.it;
         break;
       }
-    }
-    if (!first && !probe(c)) {
-      probed_out = true;
-      break;
     }
   }
   return last;
@@ -239,8 +235,8 @@ struct Offered {
   std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits
   bool narrow = false;  // the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took
   std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
-  std::vector<double> falls = {0.0, 0.3};
-  std::vector<double> early_flats = {0.0};  // the replay-only early flattening judgement (Candidate)  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
+  std::vector<double> falls = {0.0, 0.3};  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
+  std::vector<double> early_flats = {0.0};  // the replay-only early flattening judgement (Candidate)
 };
 
 // `sharp_lambdas` / `smooth_lambdas`: the fidelity weights the grids hold curves for (sigma_s 0.7 and 2.0).
@@ -432,12 +428,15 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
   return best;
 }
 
-void print_rules(const char* label, const AutoRules& r) {
+void print_rules(const char* label, const Candidate& c) {
+  const AutoRules& r = c.rules;
   std::printf("%-16s impulsive>%.3f outliers>%.0fx%s %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
               "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way from flat %.2f; levelled below +%.3f by %.1ft) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f\n",
               label, r.impulsive_share, r.outlier_jump, r.outlier_peaks ? " peaks" : "", r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
               r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.crease_fall_min_flat, r.plateau_growth, r.plateau_span, r.turned_slack,
               r.flat_growth_per_level, r.flat_share_max, r.flat_max_strong);
+  if (c.early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", c.early_flat);
+  if (c.low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", c.low_target, c.low_flat);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
@@ -531,17 +530,13 @@ int main(int argc, char** argv) {
   std::set<std::string> models(f.model_of.begin(), f.model_of.end());
   std::printf("%zu pairs of %zu models with complete curves; %zu rule candidates\n\n", f.keys.size(), models.size(), f.cands.size());
   const std::size_t all = best_candidate(f, "");
-  print_rules("fitted on all:", f.cands[all].rules);
-  if (f.cands[all].early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", f.cands[all].early_flat);
-  if (f.cands[all].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[all].low_target, f.cands[all].low_flat);
+  print_rules("fitted on all:", f.cands[all]);
   std::map<std::string, AutoRules> fold;
   double held = 0, wins = 0, worse = 0, more_flips = 0, peer_wins = 0, peer_pairs = 0;
   for (const auto& m : models) {
     const std::size_t j = best_candidate(f, m);
     fold[m] = f.cands[j].rules;
-    print_rules(("without " + m).c_str(), fold[m]);
-    if (f.cands[j].early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", f.cands[j].early_flat);
-    if (f.cands[j].low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", f.cands[j].low_target, f.cands[j].low_flat);
+    print_rules(("without " + m).c_str(), f.cands[j]);
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
       if (f.model_of[i] != m) continue;
       const double x = f.msae[i * f.cands.size() + j];

@@ -168,14 +168,13 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
         creases_at[it] = bend_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
       }
-      // The probe's iteration is the decision point: asked before the target, so a run that reaches its
-      // target right there is judged by every rule of the probe, not by the crease share alone.
-      bool probed = false;
-      if (probe && target_it == 0 && it == rules.probe_iterations) {
+      // The probe is asked before the target (not once the target has been reached), so a run that
+      // reaches its target at the probe's own iteration is judged by every rule of the probe, not by the
+      // crease share alone.
+      if (probe && target_it == 0) {
         const Probe next = probe(it, at);
         if (next == Probe::stop) return false;
         if (next == Probe::no_target) target_on = false;
-        probed = true;
       }
       if (target_on) {
         const double d = normal_displacement(topo, at, start, pos);
@@ -205,10 +204,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           }
         }
       }
-      if (target_it > 0 || probed) return true;  // past the target: no more probing
-      const Probe next = probe ? probe(it, at) : Probe::go_on;
-      if (next == Probe::no_target) target_on = false;
-      return next != Probe::stop;
+      return true;
     }, &cache);
     // The run ended (iteration cap, result check) before plateau_end: decided on what it reached.
     if (target_it > 0 && target_on && !revert) {
