@@ -221,9 +221,8 @@ struct FaceTerms {
       sz[p] += f * q.nz[p];
     }
   }
-  // The normalized sum, or `own` if every weight vanished.
-  [[gnu::always_inline]] Vec3 result(const Vec3& own) const {
-    float s[3];
+  // The three lane sums, each added in the fixed order.
+  [[gnu::always_inline]] void sums(float s[3]) const {
     if constexpr (W == 8) {
       // The same sums by shuffles: lane 0 gets (0+1), then (0+1)+(2+3), then that plus (4+5)+(6+7).
       const Vf<8>* v[3] = {&sx[0], &sy[0], &sz[0]};
@@ -242,6 +241,11 @@ struct FaceTerms {
         s[c] = ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
       }
     }
+  }
+  // The normalized sum, or `own` if every weight vanished.
+  [[gnu::always_inline]] Vec3 result(const Vec3& own) const {
+    float s[3];
+    sums(s);
     const Vec3 sum(s[0], s[1], s[2]);
     const double len = sum.norm();
     return len > 0.0 ? Vec3(sum / len) : own;
@@ -291,10 +295,33 @@ __attribute__((target("avx2"), always_inline)) inline void add_group_avx2(const 
   t.add(q);
 }
 
+// Faces b..b+n-1 (n <= kTail) of the AVX2 kernel: their sums (x, y, z, a face per lane) normalized four at
+// a time, `own` where every weight vanished. The same IEEE operations as FaceTerms::result on one face
+// (the squared length summed as (x^2 + y^2) + z^2, as Eigen's norm() does; a square root; three
+// divisions), so the bits do not depend on the kernel. Done per face, each face's tail waited on its
+// square root and divisions (a third of the kernel's samples on fandisk); here they overlap.
+constexpr int kTail = 16;
+__attribute__((target("avx2"), always_inline)) inline void normalize_tail_avx2(const float* sx, const float* sy, const float* sz, int n,
+                                                                               Vec3* out, const Vec3* own) {
+  for (int j = 0; j < n; j += 4) {
+    const __m256d x = _mm256_cvtps_pd(_mm_load_ps(sx + j)), y = _mm256_cvtps_pd(_mm_load_ps(sy + j)),
+                  z = _mm256_cvtps_pd(_mm_load_ps(sz + j));
+    const __m256d len = _mm256_sqrt_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z)));
+    alignas(32) double l[4], qx[4], qy[4], qz[4];
+    _mm256_store_pd(l, len);
+    _mm256_store_pd(qx, _mm256_div_pd(x, len));
+    _mm256_store_pd(qy, _mm256_div_pd(y, len));
+    _mm256_store_pd(qz, _mm256_div_pd(z, len));
+    for (int m = 0; m < 4 && j + m < n; ++m) out[j + m] = l[m] > 0.0 ? Vec3(qx[m], qy[m], qz[m]) : own[j + m];
+  }
+}
+
 template <class Rows>
 __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, const Rows& nbh, long first, long last) {
   const auto* base = reinterpret_cast<const float*>(k.faces);
   Group<8> q{};
+  alignas(16) float tail[3][kTail] = {};
+  long tail_first = first;
   for (long i = first; i < last; ++i) {
     // The records of the neighbours of the face eight ahead are asked for now: on meshes whose records
     // outgrow the caches the kernel waited on those loads (the Morton order keeps most neighbours near,
@@ -333,7 +360,14 @@ __attribute__((target("avx2"))) void filter_tukey_avx2(const KernelArgs& k, cons
         add_group_avx2(base, group, count - at, q, t);
       }
     }
-    k.out[i] = t.result(k.g.normals[i]);
+    float sum[3];
+    t.sums(sum);
+    const auto at = static_cast<int>(i - tail_first);
+    tail[0][at] = sum[0], tail[1][at] = sum[1], tail[2][at] = sum[2];
+    if (at + 1 == kTail || i + 1 == last) {
+      normalize_tail_avx2(tail[0], tail[1], tail[2], at + 1, k.out.data() + tail_first, k.g.normals.data() + tail_first);
+      tail_first = i + 1;
+    }
   }
 }
 
