@@ -277,6 +277,62 @@ TEST(AutoDenoise, TheCreaseFallContinuationNeedsFlatEdgesAtTheProbe) {
   EXPECT_GT(a.levelled_at > 0 ? a.levelled_at : a.run.iterations, b_target) << a.reason;
 }
 
+// The flat floor: under weak noise the zippered cylinder reaches its displacement target at iteration 6
+// with most of its edges flat; a mostly flat surface keeps improving well past the noise-sized
+// displacement, so the run goes on to AutoRules::flat_floor_iterations, beats its target-stopped self and
+// the plain defaults, and says so. A floor below the plateau rule's look-ahead (iteration 9 from a target
+// at 6) is kept where it is.
+TEST(AutoDenoise, AMostlyFlatSurfaceGoesOnToTheFlatFloor) {
+  const Mesh clean = test::make_zippered_cylinder();
+  const Mesh input = noisy(clean, 0.1);
+  const AutoRules shipped;
+  AutoRules off = shipped, low = shipped;
+  off.flat_floor_share = 0.0;
+  low.flat_floor_iterations = 8;
+  Mesh with = input, without = input, lower = input, plain = input;
+  const AutoReport a = denoise_auto(with, {}, {}, shipped);
+  const AutoReport b = denoise_auto(without, {}, {}, off);
+  const AutoReport c = denoise_auto(lower, {}, {}, low);
+  denoise(plain, DenoiseOptions{});
+  ASSERT_EQ(a.mode, "sharp") << a.reason;
+  ASSERT_EQ(b.mode, "sharp") << b.reason;
+  EXPECT_EQ(b.run.stop_reason, "target displacement");
+  EXPECT_EQ(b.flat_floor_from, 0);
+  ASSERT_GT(a.flat_floor_from, 0) << a.reason;
+  EXPECT_EQ(a.flat_floor_from, b.run.iterations);  // the same run up to its target
+  EXPECT_EQ(a.run.iterations, shipped.flat_floor_iterations) << a.reason;
+  EXPECT_NE(a.reason.find("went on to iteration 30"), std::string::npos) << a.reason;
+  EXPECT_EQ(c.flat_floor_from, a.flat_floor_from);
+  EXPECT_EQ(c.run.iterations, 8) << c.reason;
+  const double msae = evaluate(with, &clean).msae_deg;
+  EXPECT_LT(msae, evaluate(without, &clean).msae_deg);
+  EXPECT_LT(evaluate(lower, &clean).msae_deg, evaluate(without, &clean).msae_deg);
+  EXPECT_LT(msae, evaluate(plain, &clean).msae_deg);
+}
+
+// A dense, gently curved surface under weak noise is mostly flat at its target too, and gains as much
+// from going on: a sphere of 20k faces with two slow waves on it (organic, no edges), Gaussian noise
+// 0.05-0.15 mean edges.
+TEST(AutoDenoise, ADenseGentlyCurvedSurfaceGoesOnToTheFlatFloorToo) {
+  Mesh clean = test::make_sphere(5);
+  for (auto& p : clean.positions) {
+    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
+    p *= 1.0 + 0.05 * std::sin(3 * t) * std::sin(2 * f) + 0.05 * std::cos(2 * t + f);
+  }
+  AutoRules off;
+  off.flat_floor_share = 0.0;
+  for (double level : {0.05, 0.1, 0.15}) {
+    const Mesh input = noisy(clean, level);
+    Mesh with = input, without = input;
+    const AutoReport a = denoise_auto(with, {}, {}, AutoRules{});
+    const AutoReport b = denoise_auto(without, {}, {}, off);
+    ASSERT_EQ(a.mode, "sharp") << a.reason;
+    EXPECT_GT(a.flat_floor_from, 0) << "level " << level << ": " << a.reason;
+    EXPECT_EQ(a.run.iterations, AutoRules{}.flat_floor_iterations) << a.reason;
+    EXPECT_LT(evaluate(with, &clean).msae_deg, 0.9 * evaluate(without, &clean).msae_deg) << "level " << level;
+  }
+}
+
 TEST(AutoDenoise, DenoisesASphereWithoutShrinkingIt) {
   const Mesh clean = test::make_sphere(4);
   Mesh m = noisy(clean, 0.3);

@@ -115,6 +115,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   int levelled_at = 0;
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
+  int flat_floor_from = 0;  // where the flat floor kept the run going past its target
   using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
@@ -133,6 +134,11 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     std::vector<double> creases_at;  // by iteration (index 0: not measured)
     const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
     const bool plateau = while_falling && target_on && rules.plateau_growth > 0.0;
+    // The flat floor (AutoRules::flat_floor_share): the iteration a run that reached its target on a
+    // mostly flat surface goes on to (0: none), and what it keeps there if it looks on past it.
+    const bool floor_rule = while_falling && target_on && rules.flat_floor_share > 0.0 && rules.flat_floor_iterations > 0;
+    int floor_at = 0;
+    bool plateau_judged = false, floored = false;
     std::vector<double> moved;  // normal displacement by iteration (index 0: the input, 0)
     int target_it = 0;          // where the target was reached, while the plateau rule looks on (plateau_end)
     bool revert = false;
@@ -141,7 +147,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       int last_pass = 0;
       double last_turned = 0.0, last_volume_change = 0.0;
       bool volume_failed = false;
-    } at_target;
+    } at_target, at_floor;
     // Whether the displacement levelled off between target_it and `it`.
     auto levelled = [&](int it) {
       const double d_t = moved[static_cast<std::size_t>(target_it)];
@@ -182,12 +188,21 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           moved.resize(static_cast<std::size_t>(it) + 1, 0.0);
           moved[static_cast<std::size_t>(it)] = d;
         }
-        if (target_it > 0) {  // the plateau rule looks on from the target
-          if (it < plateau_end(target_it, rules.plateau_span)) return true;
-          if (levelled(it)) {
-            levelled_at = target_it;
-            target_on = false;
-            return true;
+        if (target_it > 0) {  // the plateau rule (and the flat floor) look on from the target
+          if (floor_at > 0 && it == floor_at) at_floor = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
+          if (plateau && !plateau_judged) {
+            if (it < plateau_end(target_it, rules.plateau_span)) return true;
+            if (levelled(it)) {
+              levelled_at = target_it;
+              target_on = false;
+              return true;
+            }
+            plateau_judged = true;
+          }
+          if (floor_at > 0) {
+            if (it < floor_at) return true;
+            floored = true;  // keeps iteration floor_at
+            return false;
           }
           revert = true;
           return false;
@@ -197,7 +212,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           if (falling && ran_past_target == 0) ran_past_target = it;
           if (!falling) {
             reached = true;
-            if (!plateau || (ends_at_target && ends_at_target(accepted, last_pass))) return false;
+            if ((!plateau && !floor_rule) || (ends_at_target && ends_at_target(accepted, last_pass))) return false;
+            if (floor_rule && it < rules.flat_floor_iterations && bend_share(at, topo, -1.0, rules.flat_max_deg) >= rules.flat_floor_share)
+              floor_at = rules.flat_floor_iterations;
+            if (!plateau && floor_at == 0) return false;
             target_it = it;
             at_target = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
             return true;
@@ -206,11 +224,26 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       }
       return true;
     }, &cache);
-    // The run ended (iteration cap, result check) before plateau_end: decided on what it reached.
+    // The run ended (iteration cap, result check) before plateau_end or the floor: decided on what it
+    // reached. Past the floor, the floor's iteration is kept.
     if (target_it > 0 && target_on && !revert) {
       const int last = static_cast<int>(moved.size()) - 1;
-      if (last > target_it && levelled(last)) levelled_at = target_it;
+      if (plateau && !plateau_judged && !floored && last > target_it && levelled(last)) levelled_at = target_it;
+      else if (floor_at > 0) floored = true;
       else revert = true;
+    }
+    if (floored && rep.iterations > floor_at) {
+      accepted = std::move(at_floor.accepted);
+      last_pass = at_floor.last_pass;
+      last_turned = at_floor.last_turned;
+      last_volume_change = at_floor.last_volume_change;
+      volume_failed = at_floor.volume_failed;
+      rep.iterations = floor_at;
+    }
+    if (floored) {
+      reached = false;
+      flat_floor_from = target_it;
+      rep.stop_reason = "iterations";
     }
     if (revert) {
       accepted = std::move(at_target.accepted);
@@ -392,10 +425,15 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                     "of the surface than the noise did; the input's creases are its noise); the feature-keeping run kept %d iteration%s",
                     nothing_at_target ? "displacement target" : "probe", rep.iterations, plural(rep.iterations));
     else if (decide)
-      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iteration%s only %.1f%% of the edges are soft creases%s%s",
+      std::snprintf(line, sizeof line, "sharp features: after %d feature-keeping iteration%s only %.1f%% of the edges are soft creases%s%s%s",
                     std::min(rep.iterations, rules.probe_iterations), plural(std::min(rep.iterations, rules.probe_iterations)), 100.0 * creases,
                     ran_past_target > 0 ? ("; went on past the displacement target at iteration " + std::to_string(ran_past_target) +
                                            " while its soft creases were still falling fast").c_str()
+                                        : "",
+                    flat_floor_from > 0 ? ("; reached the displacement target at iteration " + std::to_string(flat_floor_from) +
+                                           " with at least " + std::to_string(static_cast<int>(std::lround(100.0 * rules.flat_floor_share))) +
+                                           "% of the edges flat, and went on to iteration " + std::to_string(rules.flat_floor_iterations))
+                                              .c_str()
                                         : "",
                     clear             ? " (clearly machined: no displacement stop)"
                     : levelled_at > 0 ? "; the displacement levelled off after the target (no displacement stop)"
@@ -407,6 +445,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     mesh = std::move(trial);
     r.levelled_at = levelled_at;
     r.ran_past_target = ran_past_target;
+    r.flat_floor_from = flat_floor_from;
     r.run = rep;
     r.check = verdict;
     r.options = sharp;
