@@ -232,26 +232,23 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       else if (floor_at > 0) floored = true;
       else revert = true;
     }
-    if (floored && rep.iterations > floor_at) {
-      accepted = std::move(at_floor.accepted);
-      last_pass = at_floor.last_pass;
-      last_turned = at_floor.last_turned;
-      last_volume_change = at_floor.last_volume_change;
-      volume_failed = at_floor.volume_failed;
-      rep.iterations = floor_at;
-    }
+    // Back to what the run kept at iteration `it` (`snap`).
+    auto restore = [&](Snapshot& snap, int it) {
+      accepted = std::move(snap.accepted);
+      last_pass = snap.last_pass;
+      last_turned = snap.last_turned;
+      last_volume_change = snap.last_volume_change;
+      volume_failed = snap.volume_failed;
+      rep.iterations = it;
+    };
+    if (floored && rep.iterations > floor_at) restore(at_floor, floor_at);
     if (floored) {
       reached = false;
       flat_floor_from = target_it;
       rep.stop_reason = "iterations";
     }
     if (revert) {
-      accepted = std::move(at_target.accepted);
-      last_pass = at_target.last_pass;
-      last_turned = at_target.last_turned;
-      last_volume_change = at_target.last_volume_change;
-      volume_failed = at_target.volume_failed;
-      rep.iterations = target_it;
+      restore(at_target, target_it);
     } else if (levelled_at > 0) {
       reached = false;
     }
