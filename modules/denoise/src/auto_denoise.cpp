@@ -189,9 +189,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           moved[static_cast<std::size_t>(it)] = d;
         }
         if (target_it > 0) {  // the plateau rule (and the flat floor) look on from the target
-          if (floor_at > 0 && it == floor_at) at_floor = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
           if (plateau && !plateau_judged) {
-            if (it < plateau_end(target_it, rules.plateau_span)) return true;
+            if (it < plateau_end(target_it, rules.plateau_span)) {
+              // The look-ahead goes past the floor: what the run keeps there, in case it ends there.
+              if (it == floor_at) at_floor = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
+              return true;
+            }
             if (levelled(it)) {
               levelled_at = target_it;
               target_on = false;
