@@ -116,6 +116,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
   int flat_floor_from = 0;  // where the flat floor kept the run going past its target
+  int flat_floor_to = 0;    // ...and the iteration it went on to
   using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
@@ -184,11 +185,16 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       }
       if (target_on) {
         const double d = normal_displacement(topo, at, start, pos);
-        if (plateau) {
+        if (plateau || floor_rule) {
           moved.resize(static_cast<std::size_t>(it) + 1, 0.0);
           moved[static_cast<std::size_t>(it)] = d;
         }
         if (target_it > 0) {  // the plateau rule (and the flat floor) look on from the target
+          // The floor's growth limit: a surface still moving this much is losing its shape, not noise.
+          if (floor_at > it && rules.flat_floor_growth > 0.0) {
+            const double d_t = moved[static_cast<std::size_t>(target_it)];
+            if (d - d_t > rules.flat_floor_growth * d_t) floor_at = it;
+          }
           if (plateau && !plateau_judged) {
             if (it < plateau_end(target_it, rules.plateau_span)) {
               // The look-ahead goes past the floor: what the run keeps there, in case it ends there.
@@ -248,6 +254,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     if (floored) {
       reached = false;
       flat_floor_from = target_it;
+      flat_floor_to = floor_at;
       rep.stop_reason = "iterations";
     }
     if (revert) {
@@ -432,7 +439,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                                         : "",
                     flat_floor_from > 0 ? ("; reached the displacement target at iteration " + std::to_string(flat_floor_from) +
                                            " with at least " + std::to_string(static_cast<int>(std::lround(100.0 * rules.flat_floor_share))) +
-                                           "% of the edges flat, and went on to iteration " + std::to_string(rules.flat_floor_iterations))
+                                           "% of the edges flat, and went on to iteration " + std::to_string(flat_floor_to) +
+                                           (flat_floor_to < rules.flat_floor_iterations
+                                                ? " (where its displacement had grown by more than " +
+                                                      std::to_string(static_cast<int>(std::lround(100.0 * rules.flat_floor_growth))) +
+                                                      "% past the target's)"
+                                                : std::string()))
                                               .c_str()
                                         : "",
                     clear             ? " (clearly machined: no displacement stop)"
@@ -446,6 +458,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.levelled_at = levelled_at;
     r.ran_past_target = ran_past_target;
     r.flat_floor_from = flat_floor_from;
+    r.flat_floor_to = flat_floor_to;
     r.run = rep;
     r.check = verdict;
     r.options = sharp;

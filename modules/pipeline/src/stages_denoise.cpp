@@ -74,6 +74,7 @@ struct DenoiseStage : Stage {
                         {"levelled_at", static_cast<double>(a.levelled_at)},
                         {"ran_past_target", static_cast<double>(a.ran_past_target)},
                         {"flat_floor_from", static_cast<double>(a.flat_floor_from)},
+                        {"flat_floor_to", static_cast<double>(a.flat_floor_to)},
                         {"displacement", a.run.displacement},
                         {"folds", static_cast<double>(a.unfold.folds)},
                         {"folds_left", static_cast<double>(a.unfold.remaining)}});
