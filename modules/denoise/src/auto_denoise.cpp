@@ -117,6 +117,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
   int flat_floor_from = 0;  // where the flat floor kept the run going past its target
   int flat_floor_to = 0;    // ...and the iteration it went on to
+  bool flat_floor_grown = false;  // ...ended there by the floor's growth limit
   using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}) {
@@ -139,6 +140,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     // mostly flat surface goes on to (0: none), and what it keeps there if it looks on past it.
     const bool floor_rule = while_falling && target_on && rules.flat_floor_share > 0.0 && rules.flat_floor_iterations > 0;
     int floor_at = 0;
+    bool grown = false;  // floor_at moved to where the displacement outgrew the floor's limit
     bool plateau_judged = false, floored = false;
     std::vector<double> moved;  // normal displacement by iteration (index 0: the input, 0)
     int target_it = 0;          // where the target was reached, while the plateau rule looks on (plateau_end)
@@ -193,7 +195,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           // The floor's growth limit: a surface still moving this much is losing its shape, not noise.
           if (floor_at > it && rules.flat_floor_growth > 0.0) {
             const double d_t = moved[static_cast<std::size_t>(target_it)];
-            if (d - d_t > rules.flat_floor_growth * d_t) floor_at = it;
+            if (d - d_t > rules.flat_floor_growth * d_t) {
+              floor_at = it;
+              grown = true;
+            }
           }
           if (plateau && !plateau_judged) {
             if (it < plateau_end(target_it, rules.plateau_span)) {
@@ -254,7 +259,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     if (floored) {
       reached = false;
       flat_floor_from = target_it;
-      flat_floor_to = floor_at;
+      flat_floor_to = std::min(floor_at, rep.iterations);  // (the result check may have ended the run before)
+      flat_floor_grown = grown && flat_floor_to == floor_at;
       rep.stop_reason = "iterations";
     }
     if (revert) {
@@ -440,7 +446,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                     flat_floor_from > 0 ? ("; reached the displacement target at iteration " + std::to_string(flat_floor_from) +
                                            " with at least " + std::to_string(static_cast<int>(std::lround(100.0 * rules.flat_floor_share))) +
                                            "% of the edges flat, and went on to iteration " + std::to_string(flat_floor_to) +
-                                           (flat_floor_to < rules.flat_floor_iterations
+                                           (flat_floor_grown
                                                 ? " (where its displacement had grown by more than " +
                                                       std::to_string(static_cast<int>(std::lround(100.0 * rules.flat_floor_growth))) +
                                                       "% past the target's)"
