@@ -16,10 +16,11 @@
 #include "scanmesh/auto_denoise.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   std::string write_dir;
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {
@@ -64,3 +65,5 @@ int main(int argc, char** argv) {
   std::printf("# --auto better than the defaults on %d of %d pairs; worse than the noisy input (MSAE or flips) on %d\n", wins, total, worse);
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

@@ -67,6 +67,7 @@
 #include "scanmesh/auto_denoise.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/evaluate.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 using bench::Checkpoint;
@@ -489,7 +490,7 @@ std::string fmt2(double v) {
   return b;
 }
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 3 || (std::strcmp(argv[1], "fit") != 0 && std::strcmp(argv[1], "table") != 0)) {
     std::fprintf(stderr, "usage: scanmesh_auto_cv fit GRID.csv... [--data DATA_DIR] [--smooth-sigmas a,b] [--sharp-lambdas a,b] | table DATA_DIR GRID.csv... [--timing-runs K] [--only MODEL,...]\n");
     return 2;
@@ -677,3 +678,5 @@ int main(int argc, char** argv) {
               ratios.empty() ? 0.0 : ratios[ratios.size() / 2], worst_ratio);
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

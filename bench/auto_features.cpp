@@ -14,6 +14,7 @@
 #include "scanmesh/geometry.h"
 #include "scanmesh/normal_filtering.h"
 #include "scanmesh/topology.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
@@ -113,7 +114,7 @@ EdgeStats edge_stats(const Mesh& m, const std::vector<Vec3>* normals = nullptr) 
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
   std::string skip;
   for (int i = 1; i < argc; ++i) {
@@ -170,3 +171,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

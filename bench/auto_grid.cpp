@@ -21,6 +21,7 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/topology.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
@@ -47,7 +48,7 @@ Quality compare(const std::vector<Vec3>& positions, const std::vector<Face>& fac
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   std::filesystem::path data = "../shared/data";
   std::string only, skip;
   std::vector<double> sigmas = {0.35, 0.5, 0.7, 1.0, 1.5}, lambdas = {0.05, 0.2, 0.5}, radii = {2.0};
@@ -162,3 +163,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

@@ -15,6 +15,7 @@
 #include "scanmesh/geometry.h"
 #include "scanmesh/noise_analysis.h"
 #include "scanmesh/topology.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
@@ -71,7 +72,7 @@ Features measure(const Mesh& noisy, const std::vector<Vec3>& pos, const Topology
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   const auto models = bench::corpus_models_from_args(argc, argv);
   if (!models) return 0;
   const std::vector<int> checkpoints = {1, 2, 3, 4, 5, 6, 8, 10, 12, 14, 17, 20, 25, 30, 40, 50, 60, 80, 100, 130, 160, 200};
@@ -115,3 +116,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

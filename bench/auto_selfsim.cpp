@@ -13,10 +13,11 @@
 #include "scanmesh/auto_denoise.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/noise_analysis.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   const auto models = bench::corpus_models_from_args(argc, argv);
   if (!models) return 0;
   for (const auto& model : *models) {
@@ -74,3 +75,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

@@ -13,6 +13,7 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
 #include "scanmesh/topology.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
@@ -26,7 +27,7 @@ double loop_length(const Mesh& m, const std::vector<int>& loop) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   std::string path = "../shared/data/meshes/hemisphere-open.off";
   DenoiseOptions o;
   NoiseOptions n;
@@ -109,3 +110,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

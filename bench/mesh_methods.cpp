@@ -27,6 +27,7 @@
 #include "scanmesh/pipeline.h"
 #include "scanmesh/scan_fit.h"
 #include "scanmesh/virtual_scan.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 namespace fs = std::filesystem;
@@ -105,7 +106,7 @@ void print_breakdown(const std::vector<double>& to_truth, const std::vector<doub
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   fs::path data = "../shared/data";
   std::string config = "configs/scan_to_mesh.yaml";
   bool clouds = true, scans = true;
@@ -207,3 +208,5 @@ int main(int argc, char** argv) {
   fs::remove_all(tmp);
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

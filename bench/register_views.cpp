@@ -13,10 +13,11 @@
 
 #include "scanmesh/cloud_io.h"
 #include "scanmesh/combine_views.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   std::string dir = "../shared/data/clouds";
   RegisterOptions options;
   for (int i = 1; i < argc; ++i) {
@@ -77,3 +78,5 @@ int main(int argc, char** argv) {
   std::printf("worst residual rotation: %.3f deg\n", worst);
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }

@@ -13,10 +13,11 @@
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/mesh_io.h"
+#include "guarded_main.h"
 
 using namespace scanmesh;
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   namespace fs = std::filesystem;
   const fs::path dir = argc > 1 ? argv[1] : "../shared/data/pairs";
   if (!fs::is_directory(dir)) {
@@ -64,3 +65,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+int main(int argc, char** argv) { return scanmesh::bench::guarded_main(run, argc, argv); }
