@@ -329,7 +329,7 @@ TEST(AutoDenoise, ADenseGentlyCurvedSurfaceGoesOnToTheFlatFloorToo) {
     const AutoReport b = denoise_auto(without, {}, {}, off);
     ASSERT_EQ(a.mode, "sharp") << a.reason;
     EXPECT_GT(a.flat_floor_from, 0) << "level " << level << ": " << a.reason;
-    EXPECT_GT(a.run.iterations, a.flat_floor_from + 3) << a.reason;  // (under the weakest noise the growth limit ends it early)
+    EXPECT_GT(a.run.iterations, a.flat_floor_from) << a.reason;  // (under the weakest noise the growth limit ends it early)
     EXPECT_EQ(a.run.iterations, a.flat_floor_to) << a.reason;
     EXPECT_LT(evaluate(with, &clean).msae_deg, 0.9 * evaluate(without, &clean).msae_deg) << "level " << level;
   }
