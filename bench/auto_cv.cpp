@@ -260,13 +260,13 @@ struct Offered {
   // The flat floor (0: off). On the narrow lists 0.5-0.8 x 30, 50, 70 and 100 iterations were offered on
   // 2026-12-05 (second session): with 0.5 offered every fold took it (and the fold without the refined
   // cylinder turned the crease-fall continuation off); with 0.6-0.8 every fold took 0.6 and 30. On the
-  // full lists the fit keeps every candidate's scores in memory: off, 0.6 x 30 takes 20 GB; 50 as well
-  // would take more than this machine's 24 GB. (A limit on creases over 45 degrees at the target,
+  // full lists the fit keeps every candidate's scores in memory: off, 0.6 x 30 took 20 GB (14.6 GB since
+  // the flips are kept as one byte, 2026-12-05); 50 as well would take more than this machine's 24 GB. (A limit on creases over 45 degrees at the target,
   // 0.001-0.003 of the edges, was offered with it the same day, replay only: every fold took none.)
   std::vector<double> floor_flats = {0.0, 0.6}, floor_its = {30};
   // The flat floor's displacement growth limit (0: none). 0 and 0.1-0.5 were offered on the narrow lists on
   // 2026-12-05 (third session): 20 of 21 fits took 0.15, the fold without the Kinect pairs none (no other
-  // model's pair moves with it). One value by default: each one more costs the full lists 10 GB.
+  // model's pair moves with it). One value by default: each one more costs the full lists about 7 GB.
   std::vector<double> floor_growths = {0.15};
 };
 
