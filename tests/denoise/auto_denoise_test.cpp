@@ -26,6 +26,18 @@ Mesh noisy(const Mesh& clean, double level, NoiseKind kind = NoiseKind::gaussian
   return m;
 }
 
+// The 20k-face unit sphere with each vertex's radius scaled by scale(t, f) (azimuth, polar angle): smooth
+// shapes with relief of a chosen size.
+template <class Scale>
+Mesh sphere_scaled_by(const Scale& scale) {
+  Mesh m = test::make_sphere(5);
+  for (auto& p : m.positions) {
+    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
+    p *= scale(t, f);
+  }
+  return m;
+}
+
 
 // A closed cylinder (radius 1, height 2) whose side has two bands refined 4.5x along its axis, the shape of
 // the CAD part in the --auto issue that an earlier --auto took for an organic scan (small triangles in the
@@ -315,11 +327,7 @@ TEST(AutoDenoise, AMostlyFlatSurfaceGoesOnToTheFlatFloor) {
 // from going on: a sphere of 20k faces with two slow waves on it (organic, no edges), Gaussian noise
 // 0.05-0.15 mean edges.
 TEST(AutoDenoise, ADenseGentlyCurvedSurfaceGoesOnToTheFlatFloorToo) {
-  Mesh clean = test::make_sphere(5);
-  for (auto& p : clean.positions) {
-    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
-    p *= 1.0 + 0.05 * std::sin(3 * t) * std::sin(2 * f) + 0.05 * std::cos(2 * t + f);
-  }
+  const Mesh clean = sphere_scaled_by([](double t, double f) { return 1.0 + 0.05 * std::sin(3 * t) * std::sin(2 * f) + 0.05 * std::cos(2 * t + f); });
   AutoRules off;
   off.flat_floor_share = 0.0;
   for (double level : {0.05, 0.1, 0.15}) {
@@ -340,11 +348,7 @@ TEST(AutoDenoise, ADenseGentlyCurvedSurfaceGoesOnToTheFlatFloorToo) {
 // better than going on to the floor. A sphere of 20k faces with small bumps, 18 across each way, Gaussian
 // noise 0.1 mean edges.
 TEST(AutoDenoise, FineReliefEndsTheFlatFloorWhereItsDisplacementGrows) {
-  Mesh clean = test::make_sphere(5);
-  for (auto& p : clean.positions) {
-    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
-    p *= 1.0 + 0.006 * std::sin(18 * t) * std::sin(18 * f);
-  }
+  const Mesh clean = sphere_scaled_by([](double t, double f) { return 1.0 + 0.006 * std::sin(18 * t) * std::sin(18 * f); });
   const Mesh input = noisy(clean, 0.1);
   const AutoRules shipped;
   AutoRules unlimited = shipped;
@@ -429,12 +433,7 @@ TEST(AutoDenoise, IsIndependentOfTheThreadCount) {
 
 // A sphere made bumpy: an organic stand-in, about 28 edges per bump.
 static Mesh bumpy_sphere() {
-  Mesh m = test::make_sphere(5);
-  for (auto& p : m.positions) {
-    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
-    p *= 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f);
-  }
-  return m;
+  return sphere_scaled_by([](double t, double f) { return 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f); });
 }
 
 // The wide kernel's stop is a share of the noise that grows with the noise level: under strong noise the old
