@@ -327,7 +327,8 @@ TEST(AutoDenoise, AMostlyFlatSurfaceGoesOnToTheFlatFloor) {
 // from going on: a sphere of 20k faces with two slow waves on it (organic, no edges), Gaussian noise
 // 0.05-0.15 mean edges.
 TEST(AutoDenoise, ADenseGentlyCurvedSurfaceGoesOnToTheFlatFloorToo) {
-  const Mesh clean = sphere_scaled_by([](double t, double f) { return 1.0 + 0.05 * std::sin(3 * t) * std::sin(2 * f) + 0.05 * std::cos(2 * t + f); });
+  const Mesh clean =
+      sphere_scaled_by([](double t, double f) { return 1.0 + 0.05 * std::sin(3 * t) * std::sin(2 * f) + 0.05 * std::cos(2 * t + f); });
   AutoRules off;
   off.flat_floor_share = 0.0;
   for (double level : {0.05, 0.1, 0.15}) {
@@ -433,7 +434,8 @@ TEST(AutoDenoise, IsIndependentOfTheThreadCount) {
 
 // A sphere made bumpy: an organic stand-in, about 28 edges per bump.
 static Mesh bumpy_sphere() {
-  return sphere_scaled_by([](double t, double f) { return 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f); });
+  return sphere_scaled_by(
+      [](double t, double f) { return 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f); });
 }
 
 // The wide kernel's stop is a share of the noise that grows with the noise level: under strong noise the old
