@@ -140,7 +140,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     // mostly flat surface goes on to (0: none), and what it keeps there if it looks on past it.
     const bool floor_rule = while_falling && target_on && rules.flat_floor_share > 0.0 && rules.flat_floor_iterations > 0;
     int floor_at = 0;
-    bool grown = false;  // floor_at moved to where the displacement outgrew the floor's limit
     bool plateau_judged = false, floored = false;
     std::vector<double> moved;  // normal displacement by iteration (index 0: the input, 0)
     int target_it = 0;          // where the target was reached, while the plateau rule looks on (plateau_end)
@@ -195,10 +194,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           // The floor's growth limit: a surface still moving this much is losing its shape, not noise.
           if (floor_at > it && rules.flat_floor_growth > 0.0) {
             const double d_t = moved[static_cast<std::size_t>(target_it)];
-            if (d - d_t > rules.flat_floor_growth * d_t) {
-              floor_at = it;
-              grown = true;
-            }
+            if (d - d_t > rules.flat_floor_growth * d_t) floor_at = it;
           }
           if (plateau && !plateau_judged) {
             if (it < plateau_end(target_it, rules.plateau_span)) {
@@ -260,7 +256,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       reached = false;
       flat_floor_from = target_it;
       flat_floor_to = std::min(floor_at, rep.iterations);  // (the result check may have ended the run before)
-      flat_floor_grown = grown && flat_floor_to == floor_at;
+      // (the floor is moved before flat_floor_iterations only by the growth limit)
+      flat_floor_grown = floor_at < rules.flat_floor_iterations && flat_floor_to == floor_at;
       rep.stop_reason = "iterations";
     }
     if (revert) {
