@@ -33,7 +33,7 @@
 //                                                displacement has grown by more than this share of the
 //                                                target's (0 = no limit; default 0.15)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
-//                                                2026-12-04, not what ships; README)
+//                                                2026-12-04, not what ships; docs/EXPERIMENTS.md)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
 //                                                real --auto with the rules fitted without its model, next
 //                                                to the noisy input, the plain defaults and the peer;

@@ -1,4 +1,4 @@
-// Self-simulation for the wide kernel's stop (an experiment the README reports; not what --auto does): for
+// Self-simulation for the wide kernel's stop (an experiment docs/EXPERIMENTS.md reports; not what --auto does): for
 // every corpus pair --auto (shipped rules) takes as smooth, its result is noised again along the normals
 // at the level the input reads (scaled once so the re-noised mesh reads the same), the wide kernel runs on
 // that copy, and the iteration where it comes closest to the result (ground truth by construction) is

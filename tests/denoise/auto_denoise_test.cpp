@@ -503,7 +503,7 @@ TEST(AutoDenoise, BendShareCountsEdgesByTheAngleBetweenTheirFaces) {
 // flattening once they have formed, while a part's flat faces go on flattening. The bumpy sphere is taken
 // as smooth, a cube and the zippered refined cylinder under the same noise stay sharp. (This decides the
 // kernel; which kernel denoises better is an empirical matter: on the corpus the wide one wins on the dense
-// organic meshes this rule sends to it, and loses on some analytic surfaces, README.)
+// organic meshes this rule sends to it, and loses on some analytic surfaces, docs/EXPERIMENTS.md.)
 TEST(AutoDenoise, TheFlatteningRuleTellsACurvedSurfaceFromAMachinedPart) {
   AutoRules on, off;
   off.flat_growth_per_level = 0.0;

@@ -102,7 +102,7 @@ struct AutoRules {
   /// part's faces, a relief, a depth scan of a room, a dense gently curved scan) keeps improving well past
   /// the noise-sized displacement while the narrow kernel holds its edges; the corpus's organic shapes
   /// stay below 45% flat edges there. 0 = off. Held back on the corpus: 135 of 152 pairs better than the
-  /// defaults against 131 without (README, "The flat floor").
+  /// defaults against 131 without (docs/EXPERIMENTS.md, "The flat floor").
   double flat_floor_share = 0.6;
   int flat_floor_iterations = 30;
   /// ...unless its normal displacement grows by more than this share of what it was at the target on the
@@ -110,7 +110,7 @@ struct AutoRules {
   /// its vertices hardly move; fine relief under weak noise keeps moving as it is ground off. 0 = no limit.
   /// On the corpus it moves one pair, Kinect under Gaussian 0.1 (3.03 -> 2.71 degrees held back), so the
   /// fold without the Kinect pairs ties and 20 of 21 fits take 0.15 of 0.1-0.5; on the test-only Igea
-  /// scan it keeps relief the floor ground off (3.42 -> 2.82; README, "The flat floor's growth limit").
+  /// scan it keeps relief the floor ground off (3.42 -> 2.82; docs/EXPERIMENTS.md, "The flat floor's growth limit").
   double flat_floor_growth = 0.15;
   double smooth_target = 0.45;    ///< the same for the wide-kernel run...
   /// ...plus this times the noise level: under weak noise the shape's own smoothing soon adds as much
