@@ -32,6 +32,11 @@
 //                    [--floor-growths a,b,..]    the flat floor's limit offered: the run ends where its
 //                                                displacement has grown by more than this share of the
 //                                                target's (0 = no limit; default 0.15)
+//                    [--knee-fracs a,b,.. --knee-spans a,b,..]  replay only, not in AutoRules: a feature-
+//                                                keeping run that reached the first x its target at iteration
+//                                                t, but not the target by the second x t, without levelling
+//                                                off or its soft creases falling fast, returns iteration t
+//                                                (0 = off; tried 2026-12-05, docs/EXPERIMENTS.md)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; docs/EXPERIMENTS.md)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -97,6 +102,12 @@ struct Candidate {
   // flattening rule there, with its flat shares at the target and at half of it (1: the probe's growth
   // limit; 2: that limit scaled to the iterations between the two; 0: off).
   int early_flat = 0;
+  // Replay only (--knee-fracs, --knee-spans; 2026-12-05, not in AutoRules): a feature-keeping run that reached
+  // knee_frac of its target at iteration t but not the target itself by knee_span x t, whose displacement
+  // did not level off meanwhile (plateau_growth) and whose soft creases are not falling fast there (the
+  // crease-fall continuation's test), returns iteration t: its displacement creeps on, the surface being
+  // cut into facets rather than cleaned of noise (0 = off).
+  double knee_frac = 0.0, knee_span = 0.0;
 };
 
 double noise_of(const PairData& p, int statistic) { return statistic == 0 ? p.jmed : statistic == 1 ? p.jrms : p.jtrim; }
@@ -243,6 +254,33 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
                [&](const Checkpoint& c) { return r.flat_floor_growth <= 0.0 || c.it <= target_it || c.ndisp <= grown; }, stopped);
     }
   }
+  if (!decided_smooth && !clear && cand.knee_frac > 0.0 && sharp_t > 0.0) {
+    const Checkpoint* knee = nullptr;
+    const Checkpoint* first_target = nullptr;
+    for (const Checkpoint& c : *sharp) {
+      if (!knee && c.ndisp >= cand.knee_frac * sharp_t) knee = &c;
+      if (!first_target && c.ndisp >= sharp_t) first_target = &c;
+    }
+    if (knee) {
+      const int check_it = static_cast<int>(std::ceil(cand.knee_span * knee->it - 1e-9));
+      const Checkpoint* at_check = nullptr;
+      const Checkpoint* half = nullptr;
+      for (const Checkpoint& c : *sharp)
+        if (c.it <= check_it) at_check = &c;
+      if (at_check)
+        for (const Checkpoint& c : *sharp)
+          if (c.it >= 1 && c.it <= at_check->it / 2) half = &c;
+      const bool late = check_it >= r.probe_iterations && check_it <= r.max_iterations && at_check &&
+                        (!first_target || first_target->it > check_it);
+      const bool levelled = at_check && at_check->ndisp - knee->ndisp < r.plateau_growth * knee->ndisp;
+      const bool falling = walk_rules.crease_fall > 0.0 && half && at_check &&
+                           at_check->s20 - at_check->s45 < walk_rules.crease_fall * (half->s20 - half->s45);
+      if (late && !levelled && !falling) {
+        const Checkpoint* k = walk(*sharp, p, r, 0.0, knee->it, [](const Checkpoint&) { return true; }, stopped);
+        if (!e || (k && e->it > k->it)) e = k;
+      }
+    }
+  }
   if (decided_smooth) {
     const Checkpoint* s = walk(*smooth, p, r, smooth_target_ratio(r, p.level) * noise, r.max_iterations,
                                [](const Checkpoint&) { return true; }, stopped);
@@ -262,6 +300,7 @@ struct Offered {
   std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off
   std::vector<double> falls = {0.0, 0.3};  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
   std::vector<double> early_flats = {0.0};  // the replay-only early flattening judgement (Candidate)
+  std::vector<double> knee_fracs = {0.0}, knee_spans = {1.5};  // the replay-only knee stop (Candidate), 0: off
   // The flat floor (0: off). On the narrow lists 0.5-0.8 x 30, 50, 70 and 100 iterations were offered on
   // 2026-12-05 (second session): with 0.5 offered every fold took it (and the fold without the refined
   // cylinder turned the crease-fall continuation off); with 0.6-0.8 every fold took 0.6 and 30. On the
@@ -316,11 +355,14 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       for (double lf : o.lowflats)
                       for (double ff : o.falls)
                       for (double ef : o.early_flats)
+                      for (double kf : o.knee_fracs)
+                      for (double ks : o.knee_spans)
                       for (double flf : o.floor_flats)
                       for (double fli : o.floor_its)
                       for (double flg : o.floor_growths) {
                       if (flf == 0.0 && (fli != o.floor_its[0] || flg != o.floor_growths[0])) continue;  // (one "off")
                       if (lt == 0.0 && lf != o.lowflats[0]) continue;  // (one "off")
+                      if (kf == 0.0 && ks != o.knee_spans[0]) continue;  // (one "off")
                       if (floor == 0.0 && floor_level != 0.1) continue;  // (one "off")
                       // (every fold took 0.75 from 0.15 when the grid was 0.7-0.8 x 0.1-0.2)
                       if (floor != 0.0 && floor != 0.75 && floor_level != 0.15) continue;
@@ -355,6 +397,8 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       c.low_flat = lf;
                       r.crease_fall_min_flat = ff;
                       c.early_flat = static_cast<int>(ef);
+                      c.knee_frac = kf;
+                      c.knee_span = ks;
                       r.flat_floor_share = flf;
                       r.flat_floor_iterations = static_cast<int>(fli);
                       r.flat_floor_growth = flg;
@@ -482,6 +526,7 @@ void print_rules(const char* label, const Candidate& c) {
               r.flat_growth_per_level, r.flat_share_max, r.flat_max_strong, r.flat_floor_share > 0.0 ? r.flat_floor_iterations : 0, r.flat_floor_share, r.flat_floor_growth);
   if (c.early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", c.early_flat);
   if (c.low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", c.low_target, c.low_flat);
+  if (c.knee_frac > 0.0) std::printf("  (replay only: knee stop at %.2f of the target when the target takes over %.2fx as long)\n", c.knee_frac, c.knee_span);
 }
 
 double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
@@ -561,7 +606,8 @@ static int run(int argc, char** argv) {
                  {"--low-targets", &offered.lows, true},            {"--low-flats", &offered.lowflats, true},
                  {"--fall-flats", &offered.falls, false},            {"--sharp-lambdas", &offered.sharp_lambdas, true},
                  {"--early-flats", &offered.early_flats, true},      {"--floor-flats", &offered.floor_flats, false},
-                 {"--floor-iterations", &offered.floor_its, false}, {"--floor-growths", &offered.floor_growths, false}};
+                 {"--floor-iterations", &offered.floor_its, false}, {"--floor-growths", &offered.floor_growths, false},
+                 {"--knee-fracs", &offered.knee_fracs, true},       {"--knee-spans", &offered.knee_spans, true}};
     bool listed = false;
     for (const auto& l : lists)
       if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {
