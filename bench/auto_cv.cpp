@@ -119,6 +119,15 @@ struct Outcome {
   int it = 0;
 };
 
+// Whether the soft creases at `c` are below `fall` x their share at the last checkpoint at or before half
+// its iterations (the crease-fall continuation's test).
+bool creases_falling(const std::vector<Checkpoint>& curve, const Checkpoint& c, double fall) {
+  const Checkpoint* half = nullptr;
+  for (const Checkpoint& h : curve)
+    if (h.it >= 1 && h.it <= c.it / 2) half = &h;
+  return half && c.s20 - c.s45 < fall * (half->s20 - half->s45);
+}
+
 // Walks a curve like the real run: a checkpoint the result check (turned surface) fails is not kept, and
 // the run goes on (for at most r.check_patience failing iterations after one that passed); the
 // discrepancy target stops; `probe` (returns false to stop) is asked at every checkpoint, before the target.
@@ -148,11 +157,7 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
       break;
     }
     if (target > 0.0 && c.ndisp >= target) {
-      const Checkpoint* half = nullptr;
-      if (while_falling && r.crease_fall > 0.0)
-        for (const Checkpoint& h : curve)
-          if (h.it >= 1 && h.it <= c.it / 2) half = &h;
-      if (!(half && c.s20 - c.s45 < r.crease_fall * (half->s20 - half->s45))) {
+      if (!(while_falling && r.crease_fall > 0.0 && creases_falling(curve, c, r.crease_fall))) {
         if (target_it) *target_it = c.it;
         break;
       }
@@ -264,17 +269,12 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     if (knee) {
       const int check_it = static_cast<int>(std::ceil(cand.knee_span * knee->it - 1e-9));
       const Checkpoint* at_check = nullptr;
-      const Checkpoint* half = nullptr;
       for (const Checkpoint& c : *sharp)
         if (c.it <= check_it) at_check = &c;
-      if (at_check)
-        for (const Checkpoint& c : *sharp)
-          if (c.it >= 1 && c.it <= at_check->it / 2) half = &c;
       const bool late = check_it >= r.probe_iterations && check_it <= r.max_iterations && at_check &&
                         (!first_target || first_target->it > check_it);
       const bool levelled = at_check && at_check->ndisp - knee->ndisp < r.plateau_growth * knee->ndisp;
-      const bool falling = walk_rules.crease_fall > 0.0 && half && at_check &&
-                           at_check->s20 - at_check->s45 < walk_rules.crease_fall * (half->s20 - half->s45);
+      const bool falling = walk_rules.crease_fall > 0.0 && at_check && creases_falling(*sharp, *at_check, walk_rules.crease_fall);
       if (late && !levelled && !falling) {
         const Checkpoint* k = walk(*sharp, p, r, 0.0, knee->it, [](const Checkpoint&) { return true; }, stopped);
         if (!e || (k && e->it > k->it)) e = k;
@@ -529,9 +529,11 @@ void print_rules(const char* label, const Candidate& c) {
   if (c.knee_frac > 0.0) std::printf("  (replay only: knee stop at %.2f of the target when the target takes over %.2fx as long)\n", c.knee_frac, c.knee_span);
 }
 
-double angle_error(const Mesh& m, const Mesh& clean, long* flips) {
-  const MeshMetrics mm = evaluate(m, &clean);
+// MSAE against the clean mesh; the flipped faces and, with `per_face`, each face's angle in degrees.
+double angle_error(const Mesh& m, const Mesh& clean, long* flips, std::vector<double>* per_face = nullptr) {
+  MeshMetrics mm = evaluate(m, &clean);
   *flips = static_cast<long>(mm.flipped_faces);
+  if (per_face) *per_face = std::move(mm.face_angle_error);
   return mm.msae_deg;
 }
 
@@ -553,13 +555,11 @@ std::vector<std::uint8_t> clean_folds(const Mesh& clean) {
   return fold;
 }
 
-// Faces of `m` more than 90 degrees from the clean mesh's, leaving out the clean mesh's own folds.
-long flips_on_sound_faces(const Mesh& m, const Mesh& clean, const std::vector<std::uint8_t>& fold) {
-  FaceGeometry gm, gc;
-  compute_face_geometry(m.positions, m.faces, gm);
-  compute_face_geometry(clean.positions, clean.faces, gc);
+// Faces more than 90 degrees from the clean mesh's (angles as angle_error gives them), leaving out the
+// clean mesh's own folds.
+long flips_on_sound_faces(const std::vector<double>& angle_deg, const std::vector<std::uint8_t>& fold) {
   long n = 0;
-  for (std::size_t f = 0; f < m.faces.size(); ++f) n += !fold[f] && gm.normals[f].dot(gc.normals[f]) < 0.0 ? 1 : 0;
+  for (std::size_t f = 0; f < angle_deg.size(); ++f) n += !fold[f] && angle_deg[f] > 90.0 ? 1 : 0;
   return n;
 }
 
@@ -700,7 +700,8 @@ static int run(int argc, char** argv) {
     const AutoRules rules = fold.count(model.group) ? fold[model.group] : f.cands[all].rules;
     for (const auto& pair : bench::load_pairs(model)) {
       long nf = 0, df = 0, af = 0;
-      const double nm = angle_error(pair.noisy, pair.clean, &nf);
+      std::vector<double> noisy_angles, auto_angles;  // per face, for the flip count without the clean mesh's folds
+      const double nm = angle_error(pair.noisy, pair.clean, &nf, &noisy_angles);
       Mesh plain = pair.noisy, automatic = pair.noisy;
       auto t0 = std::chrono::steady_clock::now();
       denoise(plain, DenoiseOptions{});
@@ -717,7 +718,7 @@ static int run(int argc, char** argv) {
         seconds_auto = std::min(seconds_auto, std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
       }
       t_auto += seconds_auto;
-      const double dm = angle_error(plain, pair.clean, &df), am = angle_error(automatic, pair.clean, &af);
+      const double dm = angle_error(plain, pair.clean, &df), am = angle_error(automatic, pair.clean, &af, &auto_angles);
       const auto [pm, pf] = peer.at(pair.model + "|" + pair.variant);
       // Cost against a plain run with the options and iteration count --auto ended with.
       double ratio = 0.0;
@@ -743,7 +744,7 @@ static int run(int argc, char** argv) {
       flip_bad += af > nf ? 1 : 0;
       if (af > nf) {
         const std::vector<std::uint8_t> fold = clean_folds(pair.clean);
-        const long ns = flips_on_sound_faces(pair.noisy, pair.clean, fold), as = flips_on_sound_faces(automatic, pair.clean, fold);
+        const long ns = flips_on_sound_faces(noisy_angles, fold), as = flips_on_sound_faces(auto_angles, fold);
         sound_flip_bad += as > ns ? 1 : 0;
         more_flips_notes += "  " + model.name + " " + pair.variant + ": " + std::to_string(nf) + " -> " + std::to_string(af) +
                             " flipped faces; leaving out the " + std::to_string(std::count(fold.begin(), fold.end(), 1)) +
