@@ -10,6 +10,7 @@
 #include "helpers.h"
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
+#include "scanmesh/closest_point.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/errors.h"
@@ -237,6 +238,37 @@ TEST(MeshCloud, AutoKeepsGreedyProjectionWhereItCoversTheScan) {
   EXPECT_EQ(d.method, MeshMethod::gp3) << d.reason;
   EXPECT_EQ(m.num_vertices(), c.size());
   EXPECT_GE(d.fit.coverage, 0.99);
+}
+
+TEST(MeshCloud, AutoClosesASmallGapAndLeavesTheUnseenRegionOpen) {
+  // A sphere scanned all round but for a cap the views missed (the rim of what was seen) and a spot six
+  // spacings across without points, which greedy projection leaves open (a gap: the probe at its centre
+  // finds no point within 1.5 spacings). The spot's patch lies within the trim distance of the points
+  // and is kept; the unseen cap, far from every point, stays open.
+  const PointCloud full = sampled_sphere(4000);
+  const double spacing = std::sqrt(4.0 * M_PI / 4000.0);
+  const Vec3 pole(0, 0, 1), spot = Vec3(1, 1, -0.3).normalized();
+  PointCloud c;
+  for (const Vec3& p : full.points)
+    if ((p - pole).norm() > 0.6 && (p - spot).norm() > 3.0 * spacing) c.points.push_back(p);
+  c.width = static_cast<int>(c.size());
+  estimate_normals(c, NormalOptions{});
+  const CloudScale s = measure_scale(c);
+  MeshingDecision d;
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
+  ASSERT_EQ(d.method, MeshMethod::gp3) << d.reason;
+  const ClosestPointIndex surface(m);
+  EXPECT_LT(surface.closest(spot).distance, 0.5 * s.spacing) << d.reason;  // closed (a flat patch on the sphere)
+  EXPECT_GT(surface.closest(pole).distance, 5.0 * s.spacing) << d.reason;  // left open
+  std::size_t rims = 0, others = 0;
+  for (const auto& loop : d.fit.loops) (loop.kind == BoundaryLoopFit::Kind::rim ? rims : others) += 1;
+  EXPECT_EQ(rims, 1u) << d.reason;
+  EXPECT_EQ(others, 0u) << d.reason;
+  // Without closing, greedy projection leaves the spot open: the test above is about the closing.
+  MeshMethodOptions keep;
+  keep.fill_holes = false;
+  const Mesh open = mesh_cloud(c, keep, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, nullptr);
+  EXPECT_GT(ClosestPointIndex(open).closest(spot).distance, 0.5 * s.spacing);
 }
 
 TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {

@@ -31,8 +31,8 @@ struct MeshMethodOptions {
         "leaves points out or holes (the better fit to the points wins); gp3 keeps the measured points as vertices; "
         "organized needs a grid cloud; poisson makes a smooth surface with new vertices.")
         .flag("fill_holes", &MeshMethodOptions::fill_holes,
-              "auto: close greedy projection's holes where the scan has points before judging it; a patch stays "
-              "only where it lies within the Poisson trim distance of the points.");
+              "auto: close greedy projection's holes and gaps before judging it; a patch stays only where it lies "
+              "within the Poisson trim distance of the points, so a gap the scan saw nothing of stays open.");
     return s;
   }
 };
