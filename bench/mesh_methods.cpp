@@ -30,6 +30,7 @@
 #include "scanmesh/scan_fit.h"
 #include "scanmesh/virtual_scan.h"
 #include "guarded_main.h"
+#include "scan_options.h"
 
 using namespace scanmesh;
 namespace fs = std::filesystem;
@@ -127,15 +128,8 @@ static int run(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--clouds-only")) scans = false;
     else if (!std::strcmp(argv[i], "--scans-only")) clouds = false;
     else if (!std::strcmp(argv[i], "--models") && i + 1 < argc) model_list = argv[++i];
-    else if (!std::strcmp(argv[i], "--views") && i + 1 < argc) vo.views = std::stoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--scan-noise") && i + 1 < argc) vo.noise = std::stod(argv[++i]);
-    else if (!std::strcmp(argv[i], "--pixels") && i + 1 < argc) {
-      const std::string wh = argv[++i];
-      const auto x = wh.find('x');
-      if (x == std::string::npos) throw std::invalid_argument("--pixels takes WIDTHxHEIGHT, e.g. 96x72");
-      vo.width = std::stoi(wh.substr(0, x));
-      vo.height = std::stoi(wh.substr(x + 1));
-    } else data = argv[i];
+    else if (bench::read_scan_option(i, argc, argv, vo)) continue;
+    else data = argv[i];
   }
   register_scan_stages();
   // The folder the asked-for part reads: clouds/, or the models of train/ (or the shared ones) for the scans.
