@@ -37,6 +37,10 @@
 //                                                t, but not the target by the second x t, without levelling
 //                                                off or its soft creases falling fast, returns iteration t
 //                                                (0 = off; tried 2026-12-05, docs/EXPERIMENTS.md)
+//                    [--smooth-falls a,b,..]     AutoRules::smooth_crease_fall offered: the wide kernel's run
+//                                                goes on past its target while its soft creases are below
+//                                                this x their share at half its iterations and above the
+//                                                probe's crease limit (0 = off; default: the shipped value)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; docs/EXPERIMENTS.md)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -134,9 +138,10 @@ bool creases_falling(const std::vector<Checkpoint>& curve, const Checkpoint& c, 
 // With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
 // `r` and `target` are references: the probe may change them for the rest of the walk (replay()).
+// `fall_min`: the continuation applies only while the soft creases are at least this share of the edges.
 template <class Probe>
 const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, const double& target, int cap, Probe probe,
-                       bool& probed_out, bool while_falling = false, int* target_it = nullptr) {
+                       bool& probed_out, bool while_falling = false, int* target_it = nullptr, double fall_min = 0.0) {
   const Checkpoint* last = nullptr;
   if (target_it) *target_it = 0;
   // Grids with the turned area replay the shipped check exactly; older ones by counting faces.
@@ -157,7 +162,7 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
       break;
     }
     if (target > 0.0 && c.ndisp >= target) {
-      if (!(while_falling && r.crease_fall > 0.0 && creases_falling(curve, c, r.crease_fall))) {
+      if (!(while_falling && r.crease_fall > 0.0 && c.s20 - c.s45 >= fall_min && creases_falling(curve, c, r.crease_fall))) {
         if (target_it) *target_it = c.it;
         break;
       }
@@ -282,8 +287,11 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     }
   }
   if (decided_smooth) {
-    const Checkpoint* s = walk(*smooth, p, r, smooth_target_ratio(r, p.level) * noise, r.max_iterations,
-                               [](const Checkpoint&) { return true; }, stopped);
+    AutoRules sr = r;  // (walk() reads the continuation's factor from crease_fall)
+    sr.crease_fall = r.smooth_crease_fall;
+    const Checkpoint* s = walk(*smooth, p, sr, smooth_target_ratio(r, p.level) * noise, r.max_iterations,
+                               [](const Checkpoint&) { return true; }, stopped, r.smooth_crease_fall > 0.0, nullptr,
+                               r.crease_share + r.crease_share_per_level * p.level + 1e-12);
     return s ? Outcome{s->msae, s->flips, "smooth", s->it} : Outcome{p.noisy_msae, p.noisy_flips, "smooth", 0};
   }
   return e ? Outcome{e->msae, e->flips, "sharp", e->it} : Outcome{p.noisy_msae, p.noisy_flips, "sharp", 0};
@@ -301,6 +309,10 @@ struct Offered {
   std::vector<double> falls = {0.0, 0.3};  // crease_fall_min_flat (0.4-0.5 offered too on 2026-12-05: 20 of 21 fits took 0.3)
   std::vector<double> early_flats = {0.0};  // the replay-only early flattening judgement (Candidate)
   std::vector<double> knee_fracs = {0.0}, knee_spans = {1.5};  // the replay-only knee stop (Candidate), 0: off
+  // The wide kernel's crease-fall continuation (AutoRules::smooth_crease_fall; 0: off). 0 and 0.5-0.8 were
+  // offered on the narrow lists on 2026-12-06: every fold took 0.6.
+  std::vector<double> smooth_falls = {AutoRules{}.smooth_crease_fall};
+
   // The flat floor (0: off). On the narrow lists 0.5-0.8 x 30, 50, 70 and 100 iterations were offered on
   // 2026-12-05 (second session): with 0.5 offered every fold took it (and the fold without the refined
   // cylinder turned the crease-fall continuation off); with 0.6-0.8 every fold took 0.6 and 30. On the
@@ -357,6 +369,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       for (double ef : o.early_flats)
                       for (double kf : o.knee_fracs)
                       for (double ks : o.knee_spans)
+                      for (double sfall : o.smooth_falls)
                       for (double flf : o.floor_flats)
                       for (double fli : o.floor_its)
                       for (double flg : o.floor_growths) {
@@ -399,6 +412,7 @@ std::vector<Candidate> candidates(const std::vector<double>& sharp_lambdas, cons
                       c.early_flat = static_cast<int>(ef);
                       c.knee_frac = kf;
                       c.knee_span = ks;
+                      r.smooth_crease_fall = sfall;
                       r.flat_floor_share = flf;
                       r.flat_floor_iterations = static_cast<int>(fli);
                       r.flat_floor_growth = flg;
@@ -520,9 +534,9 @@ std::size_t best_candidate(const Fit& f, const std::string& held_out) {
 void print_rules(const char* label, const Candidate& c) {
   const AutoRules& r = c.rules;
   std::printf("%-16s impulsive>%.3f outliers>%.0fx%s %d its | smooth (%.2f, %.2f) | sharp (%.2f, %.2f) probe %d its, soft creases>%.3f+%.2f level (clear below %.3f) | noise stat %d, "
-              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way from flat %.2f; levelled below +%.3f by %.1ft) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f | flat floor %d its from %.2f (growth limit %.2f)\n",
+              "targets %.2f/%.2f+%.2f level, at least %.2f from level %.2f (sharp: not while creases < %.1fx half-way from flat %.2f; levelled below +%.3f by %.1ft; smooth: not while creases < %.1fx half-way and over the limit) | turned slack %g | flattening %.2fx level below %.2f, strong creases < %.2f | flat floor %d its from %.2f (growth limit %.2f)\n",
               label, r.impulsive_share, r.outlier_jump, r.outlier_peaks ? " peaks" : "", r.impulsive_iterations, r.smooth_sigma, r.smooth_lambda, r.sharp_sigma, r.sharp_lambda, r.probe_iterations,
-              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.crease_fall_min_flat, r.plateau_growth, r.plateau_span, r.turned_slack,
+              r.crease_share, r.crease_share_per_level, r.clear_sharp_share, static_cast<int>(r.noise_statistic), r.sharp_target, r.smooth_target, r.smooth_target_per_level, r.smooth_target_floor, r.smooth_floor_level, r.crease_fall, r.crease_fall_min_flat, r.plateau_growth, r.plateau_span, r.smooth_crease_fall, r.turned_slack,
               r.flat_growth_per_level, r.flat_share_max, r.flat_max_strong, r.flat_floor_share > 0.0 ? r.flat_floor_iterations : 0, r.flat_floor_share, r.flat_floor_growth);
   if (c.early_flat > 0) std::printf("  (replay only: early flattening judgement %d)\n", c.early_flat);
   if (c.low_target > 0.0) std::printf("  (replay only: low target %.2f below flat %.2f)\n", c.low_target, c.low_flat);
@@ -607,7 +621,8 @@ static int run(int argc, char** argv) {
                  {"--fall-flats", &offered.falls, false},            {"--sharp-lambdas", &offered.sharp_lambdas, true},
                  {"--early-flats", &offered.early_flats, true},      {"--floor-flats", &offered.floor_flats, false},
                  {"--floor-iterations", &offered.floor_its, false}, {"--floor-growths", &offered.floor_growths, false},
-                 {"--knee-fracs", &offered.knee_fracs, true},       {"--knee-spans", &offered.knee_spans, true}};
+                 {"--knee-fracs", &offered.knee_fracs, true},       {"--knee-spans", &offered.knee_spans, true},
+                 {"--smooth-falls", &offered.smooth_falls, false},};
     bool listed = false;
     for (const auto& l : lists)
       if ((!table || !l.fit_only) && std::strcmp(argv[i], l.flag) == 0 && i + 1 < argc) {

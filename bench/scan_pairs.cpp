@@ -20,53 +20,17 @@
 
 #include "guarded_main.h"
 #include "peers.h"
+#include "scan_pair.h"
 #include "scan_options.h"
 #include "scanmesh/auto_denoise.h"
-#include "scanmesh/clean_cloud.h"
-#include "scanmesh/clean_mesh.h"
-#include "scanmesh/combine_views.h"
 #include "scanmesh/denoise.h"
 #include "scanmesh/evaluate.h"
 #include "scanmesh/mesh_io.h"
-#include "scanmesh/triangulate.h"
-#include "scanmesh/virtual_scan.h"
 
 using namespace scanmesh;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct PositionKey {
-  std::size_t operator()(const Vec3& p) const {
-    const auto h = [](double x) { return std::hash<double>{}(x); };
-    return h(p.x()) ^ (h(p.y()) * 31) ^ (h(p.z()) * 131);
-  }
-};
-
-// The clean/noisy pair of one model, or an empty clean mesh if the scans do not line up.
-bool make_pair(const Mesh& model, const VirtualScanOptions& vo, Mesh& clean, Mesh& noisy) {
-  VirtualScanOptions exact = vo;
-  exact.noise = 0.0;
-  const PointCloud c0 = merge_views(virtual_scan(model, exact));
-  const PointCloud c1 = merge_views(virtual_scan(model, vo));
-  if (c0.size() != c1.size() || c0.size() < 100) return false;
-  PointCloud with_normals = c0;
-  estimate_normals(with_normals, NormalOptions{});
-  clean = triangulate_gp3(with_normals, Gp3Options{}, measure_scale(with_normals));  // vertices: the points in order
-  // Clean-up may drop, reorder or split vertices; positions stay exact, so each is found again by position.
-  std::unordered_map<Vec3, int, PositionKey> index;
-  for (std::size_t i = 0; i < c0.size(); ++i) index.emplace(c0.points[i], static_cast<int>(i));
-  clean_mesh(clean, CleanupOptions{});
-  noisy = clean;
-  for (std::size_t v = 0; v < clean.positions.size(); ++v) {
-    const auto it = index.find(clean.positions[v]);
-    if (it == index.end()) return false;
-    noisy.positions[v] = c1.points[static_cast<std::size_t>(it->second)];
-  }
-  clean.vertex_properties.clear();  // (the noise-free normals would not be the noisy mesh's)
-  noisy.vertex_properties.clear();
-  return !clean.faces.empty();
-}
 
 // The lowest MSAE along a kernel's run and the iteration it came at.
 std::pair<double, int> best_on_curve(const Mesh& noisy, const Mesh& clean, double sigma_s, int iterations) {
@@ -118,7 +82,7 @@ static int run(int argc, char** argv) {
     const fs::path file = s != shared.end() ? s->second : data / "train" / (name + ".obj");
     if (!fs::exists(file)) continue;
     Mesh clean, noisy;
-    if (!make_pair(read_mesh(file.string()), vo, clean, noisy)) {
+    if (!bench::make_scan_pair(read_mesh(file.string()), vo, clean, noisy)) {
       std::printf("| %s | the two scans do not line up | | | | | | | |\n", name.c_str());
       continue;
     }

@@ -447,6 +447,9 @@ TEST(AutoDenoise, TheWideKernelRunsFurtherUnderStrongNoise) {
   AutoRules now, flat;
   now.crease_share = flat.crease_share = -1.0;  // every mesh is taken as smooth
   now.crease_share_per_level = flat.crease_share_per_level = 0.0;
+  // The target rules alone: without the crease-fall continuation, whose floor (the crease limit) this
+  // forcing of the smooth mode takes away.
+  now.smooth_crease_fall = flat.smooth_crease_fall = 0.0;
   flat.smooth_target = 0.6;  // the rule before the noise-level term
   flat.smooth_target_per_level = 0.0;
   flat.smooth_target_floor = 0.0;
@@ -468,6 +471,7 @@ TEST(AutoDenoise, TheWideKernelRunsToItsFloorUnderModerateNoise) {
   AutoRules with, without;
   with.crease_share = without.crease_share = -1.0;  // every mesh is taken as smooth
   with.crease_share_per_level = without.crease_share_per_level = 0.0;
+  with.smooth_crease_fall = without.smooth_crease_fall = 0.0;  // the target rules alone (as above)
   without.smooth_target_floor = 0.0;
   for (double level : {0.3, 0.4}) {
     Mesh a = noisy(clean, level), b = a;

@@ -112,6 +112,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // otherwise it returns iteration t. The probe is not asked after the target, but `ends_at_target` is,
   // before looking on, with what the run keeps at the target: true ends the run there (a mesh the probe
   // would call smooth need not run on).
+  // The wide kernel's continuation needs more soft creases than this (AutoRules::smooth_crease_fall).
+  const double smooth_fall_floor = rules.crease_share + rules.crease_share_per_level * na.level;
   int levelled_at = 0;
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
@@ -119,8 +121,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   int flat_floor_to = 0;    // ...and the iteration it went on to
   bool flat_floor_grown = false;  // ...ended there by the floor's growth limit
   using TargetFn = std::function<bool(const std::vector<Vec3>&, int kept_iteration)>;
+  // `smooth_fall` (a run without `while_falling`: the wide kernel's): the target does not end the run while
+  // the soft creases are below this x their share at half the iterations either (0: it does).
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
-                         const TargetFn& ends_at_target = {}) {
+                         const TargetFn& ends_at_target = {}, double smooth_fall = 0.0) {
     const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
     const double target = opt.target_displacement * edge;
     bool target_on = target > 0.0, reached = false;
@@ -134,7 +138,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     bool volume_failed = false;       // the last iteration failed on the volume, not on turned surface
     FaceGeometry at;
     std::vector<double> creases_at;  // by iteration (index 0: not measured)
-    const bool track = while_falling && rules.crease_fall > 0.0 && target_on;
+    const double fall = while_falling ? rules.crease_fall : smooth_fall;
+    const bool track = fall > 0.0 && target_on;
     const bool plateau = while_falling && target_on && rules.plateau_growth > 0.0;
     // The flat floor (AutoRules::flat_floor_share): the iteration a run that reached its target on a
     // mostly flat surface goes on to (0: none), and what it keeps there if it looks on past it.
@@ -218,7 +223,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           return false;
         }
         if (d >= target) {
-          const bool falling = track && !fall_off && it / 2 >= 1 && creases_at[it] < rules.crease_fall * creases_at[it / 2];
+          // (fall_off, set by the feature-keeping run's probe, is that run's own)
+          const bool falling = track && !(while_falling && fall_off) && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2] &&
+                               (while_falling || creases_at[it] > smooth_fall_floor);
           if (falling && ran_past_target == 0) ran_past_target = it;
           if (!falling) {
             reached = true;
@@ -422,7 +429,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                     rep.iterations, plural(rep.iterations), 100.0 * creases, rules.soft_crease_min_deg, rules.soft_crease_max_deg, 100.0 * crease_limit);
     r.reason = line;
     r.probe_iterations = rep.iterations;
-    auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false);
+    ran_past_target = 0;  // (the feature-keeping run's, if it went past its target before the probe)
+    auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false, {}, rules.smooth_crease_fall);
+    if (ran_past_target > 0)
+      r.reason += "; the wide kernel went on past the displacement target at iteration " + std::to_string(ran_past_target) +
+                  " while its soft creases were still falling fast";
+    r.ran_past_target = ran_past_target;
     r.run = rep2;
     r.check = verdict2;
     r.options = smooth;

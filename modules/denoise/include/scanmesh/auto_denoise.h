@@ -121,6 +121,17 @@ struct AutoRules {
   /// organic pairs), which the level term alone reaches only under strong noise.
   double smooth_target_floor = 0.75;
   double smooth_floor_level = 0.15;  ///< noise level (x mean edge) from which smooth_target_floor applies
+  /// The wide-kernel run does not stop at its target while its soft creases are still falling fast: below
+  /// this share of their value at half the iterations (as crease_fall for the feature-keeping run; 0 =
+  /// off). On a triangulation of scanned points (greedy projection of a noisy scan) the displacement
+  /// creeps past the target while the normals keep improving for three to six times as many iterations.
+  /// Every fold took 0.6 of 0.5-0.8 (held back on the corpus's grids: mean 7.548 -> 7.504 degrees, 127
+  /// -> 131 of 146 pairs better than the peer; docs/EXPERIMENTS.md, "The wide kernel's crease-fall continuation").
+  /// It applies only while the soft creases are above the share that makes the probe call a surface
+  /// smooth (crease_share + crease_share_per_level x level: noise still locked in): a smooth surface's few
+  /// remaining creases keep falling towards none however long the run smooths its shape away (the Igea
+  /// scan decimated to 20k faces ran 100-200 iterations without that floor, 8.5 -> 12.5 degrees).
+  double smooth_crease_fall = 0.6;
   int max_iterations = 200;
   double radius_factor = 3.0;
   /// Closed meshes: relative volume change at which the run stops. Off: rounding a noisy part's edges
@@ -161,8 +172,9 @@ struct AutoReport {
   DenoiseReport run;           ///< iterations, stop reason, timings of the final run
   int probe_iterations = 0;    ///< iterations spent on a probe that was discarded
   int levelled_at = 0;         ///< the feature-keeping run's target iteration, when its displacement levelled off after it (0: did not)
-  /// The first iteration at which the feature-keeping run had reached its target but went on because its
-  /// soft creases were still falling fast (AutoRules::crease_fall; 0: never).
+  /// The first iteration at which the final run had reached its target but went on because its soft
+  /// creases were still falling fast (AutoRules::crease_fall, or smooth_crease_fall for the wide kernel's
+  /// run; 0: never).
   int ran_past_target = 0;
   /// The target iteration of a feature-keeping run that went on to AutoRules::flat_floor_iterations
   /// because its surface was mostly flat there (0: did not)...
