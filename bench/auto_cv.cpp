@@ -138,10 +138,10 @@ bool creases_falling(const std::vector<Checkpoint>& curve, const Checkpoint& c, 
 // With `while_falling` (the feature-keeping run), the target does not stop while the soft creases are below
 // r.crease_fall x their share at the last checkpoint at or before half the iterations.
 // `r` and `target` are references: the probe may change them for the rest of the walk (replay()).
-// `fall_min`: the continuation applies only while the soft creases are at least this share of the edges.
+// `fall_min`: the continuation applies only while the soft creases are more than this share of the edges.
 template <class Probe>
 const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, const AutoRules& r, const double& target, int cap, Probe probe,
-                       bool& probed_out, bool while_falling = false, int* target_it = nullptr, double fall_min = 0.0) {
+                       bool& probed_out, bool while_falling = false, int* target_it = nullptr, double fall_min = -1.0) {
   const Checkpoint* last = nullptr;
   if (target_it) *target_it = 0;
   // Grids with the turned area replay the shipped check exactly; older ones by counting faces.
@@ -162,7 +162,7 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
       break;
     }
     if (target > 0.0 && c.ndisp >= target) {
-      if (!(while_falling && r.crease_fall > 0.0 && c.s20 - c.s45 >= fall_min && creases_falling(curve, c, r.crease_fall))) {
+      if (!(while_falling && r.crease_fall > 0.0 && c.s20 - c.s45 > fall_min && creases_falling(curve, c, r.crease_fall))) {
         if (target_it) *target_it = c.it;
         break;
       }
@@ -290,8 +290,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     AutoRules sr = r;  // (walk() reads the continuation's factor from crease_fall)
     sr.crease_fall = r.smooth_crease_fall;
     const Checkpoint* s = walk(*smooth, p, sr, smooth_target_ratio(r, p.level) * noise, r.max_iterations,
-                               [](const Checkpoint&) { return true; }, stopped, r.smooth_crease_fall > 0.0, nullptr,
-                               r.crease_share + r.crease_share_per_level * p.level + 1e-12);
+                               [](const Checkpoint&) { return true; }, stopped, r.smooth_crease_fall > 0.0, nullptr, limit);
     return s ? Outcome{s->msae, s->flips, "smooth", s->it} : Outcome{p.noisy_msae, p.noisy_flips, "smooth", 0};
   }
   return e ? Outcome{e->msae, e->flips, "sharp", e->it} : Outcome{p.noisy_msae, p.noisy_flips, "sharp", 0};

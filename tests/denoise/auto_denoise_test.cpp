@@ -433,10 +433,7 @@ TEST(AutoDenoise, IsIndependentOfTheThreadCount) {
 }
 
 // A sphere made bumpy: an organic stand-in, about 28 edges per bump.
-static Mesh bumpy_sphere() {
-  return sphere_scaled_by(
-      [](double t, double f) { return 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f); });
-}
+static Mesh bumpy_sphere() { return test::make_bumpy_sphere(5); }
 
 // The wide kernel's stop is a share of the noise that grows with the noise level: under strong noise the old
 // flat share stopped after two iterations with much of the noise left. On the bumpy sphere the smooth mode is

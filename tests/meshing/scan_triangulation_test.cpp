@@ -2,9 +2,6 @@
 // triangles, which the tuning corpus (noise added to clean meshes' vertices) does not have.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cmath>
-
 #include "helpers.h"
 #include "scan_pair.h"
 #include "scanmesh/auto_denoise.h"
@@ -15,14 +12,7 @@ using namespace scanmesh;
 namespace {
 
 // A smooth model with relief: the 5k-face unit sphere, bumps of 5% of its radius.
-Mesh bumpy_sphere() {
-  Mesh m = test::make_sphere(4);
-  for (auto& p : m.positions) {
-    const double t = std::atan2(p.y(), p.x()), f = std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
-    p *= 1.0 + 0.05 * std::sin(9 * t) * std::sin(8 * f) + 0.05 * std::cos(4 * t + 3 * f);
-  }
-  return m;
-}
+Mesh bumpy_sphere() { return test::make_bumpy_sphere(4); }
 
 // A dense scan of it under strong depth noise: six views of 160 x 120.
 void sphere_scan_pair(Mesh& clean, Mesh& noisy) {

@@ -112,8 +112,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // otherwise it returns iteration t. The probe is not asked after the target, but `ends_at_target` is,
   // before looking on, with what the run keeps at the target: true ends the run there (a mesh the probe
   // would call smooth need not run on).
-  // The wide kernel's continuation needs more soft creases than this (AutoRules::smooth_crease_fall).
-  const double smooth_fall_floor = rules.crease_share + rules.crease_share_per_level * na.level;
+  // Soft creases above this share at the probe: a smooth shape (noise the narrow kernel locked in). The
+  // wide kernel's continuation needs more than this too (AutoRules::smooth_crease_fall).
+  const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
   int levelled_at = 0;
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
@@ -225,7 +226,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         if (d >= target) {
           // (fall_off, set by the feature-keeping run's probe, is that run's own)
           const bool falling = track && !(while_falling && fall_off) && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2] &&
-                               (while_falling || creases_at[it] > smooth_fall_floor);
+                               (while_falling || creases_at[it] > crease_limit);
           if (falling && ran_past_target == 0) ran_past_target = it;
           if (!falling) {
             reached = true;
@@ -363,7 +364,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   Mesh trial = mesh;
   double creases = -1.0;
   bool clear = false;
-  const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
   const bool flattening = rules.flat_growth_per_level > 0.0;
   double flat_half = -1.0, flat = -1.0;  // at half the probe and at the probe
   bool flattened = false;  // taken as smooth because its flat edges stopped growing

@@ -125,12 +125,12 @@ struct AutoRules {
   /// this share of their value at half the iterations (as crease_fall for the feature-keeping run; 0 =
   /// off). On a triangulation of scanned points (greedy projection of a noisy scan) the displacement
   /// creeps past the target while the normals keep improving for three to six times as many iterations.
-  /// Every fold took 0.6 of 0.5-0.8 (held back on the corpus's grids: mean 7.548 -> 7.504 degrees, 127
-  /// -> 131 of 146 pairs better than the peer; docs/EXPERIMENTS.md, "The wide kernel's crease-fall continuation").
   /// It applies only while the soft creases are above the share that makes the probe call a surface
   /// smooth (crease_share + crease_share_per_level x level: noise still locked in): a smooth surface's few
   /// remaining creases keep falling towards none however long the run smooths its shape away (the Igea
   /// scan decimated to 20k faces ran 100-200 iterations without that floor, 8.5 -> 12.5 degrees).
+  /// Every fold took 0.6 of 0.5-0.8 (held back on the corpus's grids: mean 7.548 -> 7.544 degrees, 127
+  /// -> 128 of 146 pairs better than the peer; docs/EXPERIMENTS.md, "The wide kernel's crease-fall continuation").
   double smooth_crease_fall = 0.6;
   int max_iterations = 200;
   double radius_factor = 3.0;
