@@ -143,7 +143,7 @@ static int run(int argc, char** argv) {
   const std::string out = (tmp / "out.ply").string();
 
   if (clouds) {
-    std::printf("## Real clouds (no truth): coverage = points within 2 spacings of the final mesh, of the points as meshed "
+    std::printf("## Real clouds (no truth): coverage = points within the coverage radius (2 spacings, or 3x their scatter across the surface) of the final mesh, of the points as meshed "
                 "(dequantized, outliers removed) and of the raw file\n\n");
     std::printf("| cloud | method | status | coverage (as meshed) | coverage (raw) | holes | gaps | pieces | p95 distance | seconds |\n"
                 "|---|---|---|---|---|---|---|---|---|---|\n");

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "helpers.h"
 
 using namespace scanmesh;
@@ -91,4 +94,41 @@ TEST(ScanFit, DistancesAreInSceneUnits) {
   EXPECT_NEAR(f.distance_max, 3.0, 1e-12);
   EXPECT_EQ(f.points_left_out, 1u);
   EXPECT_NEAR(f.coverage, 1.0 - 1.0 / static_cast<double>(pts.size()), 1e-12);
+}
+
+TEST(ScanFit, NoiseWiderThanTheSpacingIsScatterNotPointsLeftOut) {
+  // A flat mesh and a scan of it whose depth noise (deviation 1.5) is wider than its spacing (1): the
+  // surface itself has a Gaussian share of the points beyond 2 spacings, and still represents them all.
+  const Mesh g = test::make_grid(60);
+  std::vector<Vec3> scan = points_of(g);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1.5);
+  std::size_t beyond_two = 0;
+  for (Vec3& p : scan) {
+    p.z() = noise(rng);
+    beyond_two += std::abs(p.z()) > 2.0 ? 1 : 0;
+  }
+  ASSERT_GT(beyond_two, scan.size() / 10);  // what a 2-spacing radius would have called left out
+  const ScanFit f = measure_scan_fit(g, scan, 1.0);
+  EXPECT_NEAR(f.scatter, 1.5, 0.15);
+  EXPECT_NEAR(f.coverage_radius, 3.0 * f.scatter, 1e-12);
+  EXPECT_GT(f.coverage, 0.99);
+  EXPECT_TRUE(scan_fit_problems(f).empty()) << scan_fit_problems(f)[0];
+  EXPECT_NE(coverage_radius_words(f).find("scatter"), std::string::npos);
+}
+
+TEST(ScanFit, DetailTheMeshMissesIsNotScatter) {
+  // The points carry smooth waves (amplitude 3 spacings, wavelength 40) that the flat mesh lacks: their
+  // distances are shared by neighbours, so they do not widen the radius, and the crests are left out.
+  const Mesh g = test::make_grid(60);
+  std::vector<Vec3> scan = points_of(g);
+  for (Vec3& p : scan) p.z() = 3.0 * std::sin(2.0 * M_PI * p.x() / 40.0);
+  const ScanFit f = measure_scan_fit(g, scan, 1.0);
+  EXPECT_LT(f.scatter, 0.5);
+  EXPECT_EQ(f.coverage_radius, 2.0);
+  EXPECT_LT(f.coverage, 0.7);
+  ASSERT_FALSE(scan_fit_problems(f).empty());
+  EXPECT_NE(scan_fit_problems(f)[0].find("farther than 2 spacings"), std::string::npos) << scan_fit_problems(f)[0];
+  // A mesh through its points has no scatter at all.
+  EXPECT_EQ(measure_scan_fit(g, points_of(g), 1.0).scatter, 0.0);
 }

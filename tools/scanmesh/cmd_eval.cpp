@@ -84,8 +84,9 @@ int run_eval(const std::vector<std::string>& args) {
     }
     if (fit) {
       std::printf("cloud:      %zu points, mean spacing %.6g\n", fit->points, fit->spacing);
-      std::printf("coverage:   %.2f%% of the points within 2 spacings of the mesh (%zu left out)\n", 100.0 * fit->coverage,
-                  fit->points_left_out);
+      std::printf("coverage:   %.2f%% of the points within %.6g (%s) of the mesh (%zu left out)\n", 100.0 * fit->coverage,
+                  fit->coverage_radius, coverage_radius_words(*fit).c_str(), fit->points_left_out);
+      std::printf("scatter:    %.6g across the surface (the points' noise, scene units)\n", fit->scatter);
       std::printf("distance:   points to mesh: mean %.6g, 95th percentile %.6g, max %.6g\n", fit->distance_mean, fit->distance_p95,
                   fit->distance_max);
       std::printf("loops:      %zu rims, %zu holes (largest %.4g around), %zu gaps in the data; %zu pieces (main %.1f%% of faces)\n",

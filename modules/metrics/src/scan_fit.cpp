@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 
 #include "scanmesh/closest_point.h"
 #include "scanmesh/evaluate.h"
+#include "scanmesh/geometry.h"
 #include "scanmesh/nearest_points.h"
 #include "scanmesh/neighbourhoods.h"
 #include "scanmesh/topology.h"
@@ -83,7 +85,44 @@ std::vector<std::vector<int>> closed_boundary_loops(const Mesh& mesh, const Topo
   return loops;
 }
 
+// The points' scatter across the surface (a standard deviation, scene units), from the signed distances
+// of points whose feet (closest points on the mesh) are neighbours: the difference of two independent
+// noisy distances has twice the variance, and its median absolute value is 0.6745 x its deviation. Pairs
+// are formed on the surface (by the feet), not in space, so that points at the same height do not pair up
+// preferentially where the noise is wider than the spacing. `signed_distance` is NaN where no sign is known.
+double scatter_across_surface(const std::vector<Vec3>& feet, const std::vector<double>& signed_distance, double spacing) {
+  if (feet.size() < 8) return 0.0;
+  const NearestPoints index(feet);
+  const auto n = static_cast<long>(feet.size());
+  std::vector<double> diff(feet.size(), std::numeric_limits<double>::quiet_NaN());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long i = 0; i < n; ++i) {
+    if (std::isnan(signed_distance[i])) continue;
+    thread_local std::vector<int> near;
+    index.nearest(feet[i], 4, near);
+    for (int j : near) {
+      // Coincident feet (a duplicate point, points past a rim projecting onto one corner) are not a pair.
+      const double apart = (feet[j] - feet[i]).norm();
+      if (j == i || std::isnan(signed_distance[j]) || !(apart > 1e-9 * spacing) || apart > 2.0 * spacing) continue;
+      diff[i] = std::abs(signed_distance[i] - signed_distance[j]);
+      break;
+    }
+  }
+  diff.erase(std::remove_if(diff.begin(), diff.end(), [](double d) { return std::isnan(d); }), diff.end());
+  if (diff.size() < 8) return 0.0;
+  const auto mid = diff.begin() + static_cast<long>(diff.size() / 2);
+  std::nth_element(diff.begin(), mid, diff.end());
+  return *mid / 0.6745 / std::sqrt(2.0);
+}
+
 }  // namespace
+
+std::string coverage_radius_words(const ScanFit& fit) {
+  if (!(fit.spacing > 0.0) || fit.coverage_radius <= 2.0 * fit.spacing) return "2 spacings";
+  char b[128];
+  std::snprintf(b, sizeof b, "3 x the points' scatter across the surface, %.3g spacings", fit.coverage_radius / fit.spacing);
+  return b;
+}
 
 ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid) {
   ScanFit fit;
@@ -100,13 +139,30 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     return fit;
   }
 
-  // Distances of the points to the surface.
+  // Distances of the points to the surface, signed by the normal of the face each is closest to, and
+  // the scatter across the surface they show: where the noise is wider than 2 spacings / 3, the coverage
+  // radius grows to 3 x that scatter (the surface itself would leave a Gaussian scan's tails out).
   {
     const ClosestPointIndex index(mesh);
     fit.point_distance.resize(finite.size());
+    std::vector<Vec3> feet(finite.size());
+    std::vector<double> signed_distance(finite.size());
     const auto n = static_cast<long>(finite.size());
 #pragma omp parallel for schedule(dynamic, 256)
-    for (long i = 0; i < n; ++i) fit.point_distance[i] = index.closest(finite[i]).distance;
+    for (long i = 0; i < n; ++i) {
+      const ClosestPointIndex::Hit hit = index.closest(finite[i]);
+      fit.point_distance[i] = hit.distance;
+      feet[i] = hit.point;
+      Vec3 normal = Vec3::Zero();
+      if (hit.face >= 0) {
+        const Face& f = mesh.faces[static_cast<std::size_t>(hit.face)];
+        normal = triangle_normal(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]]);
+      }
+      const double d = (finite[i] - hit.point).dot(normal);
+      signed_distance[i] = normal.isZero() || !std::isfinite(d) ? std::numeric_limits<double>::quiet_NaN() : d;
+    }
+    fit.scatter = scatter_across_surface(feet, signed_distance, spacing);
+    fit.coverage_radius = std::max(2.0 * spacing, 3.0 * fit.scatter);
   }
   std::vector<double> sorted = fit.point_distance;
   std::sort(sorted.begin(), sorted.end());
@@ -218,8 +274,8 @@ std::vector<std::string> scan_fit_problems(const ScanFit& fit, const ScanFitLimi
   std::vector<std::string> out;
   char buf[256];
   if (fit.coverage < limits.min_coverage) {
-    std::snprintf(buf, sizeof buf, "the mesh leaves %.1f%% of the points out (%zu farther than 2 spacings; at most %.1f%% expected)",
-                  100.0 * (1.0 - fit.coverage), fit.points_left_out, 100.0 * (1.0 - limits.min_coverage));
+    std::snprintf(buf, sizeof buf, "the mesh leaves %.1f%% of the points out (%zu farther than %s; at most %.1f%% expected)",
+                  100.0 * (1.0 - fit.coverage), fit.points_left_out, coverage_radius_words(fit).c_str(), 100.0 * (1.0 - limits.min_coverage));
     out.emplace_back(buf);
   }
   std::size_t big = 0;
@@ -240,6 +296,7 @@ std::vector<std::string> scan_fit_problems(const ScanFit& fit, const ScanFitLimi
 void write_json(JsonWriter& w, const ScanFit& f) {
   w.begin_object();
   w.field("points", f.points).field("spacing", f.spacing).field("coverage", f.coverage).field("coverage_radius", f.coverage_radius);
+  w.field("scatter", f.scatter);
   w.field("points_left_out", f.points_left_out);
   w.field("distance_mean", f.distance_mean).field("distance_p95", f.distance_p95).field("distance_max", f.distance_max);
   w.field("pieces", f.pieces).field("main_piece_share", f.main_piece_share);

@@ -89,7 +89,7 @@ std::string html_page(const ReportInput& in, const ReportContent& c) {
   if (in.scan_fit) {
     const ScanFit& f = *in.scan_fit;
     summary.push_back({"points left out", fmt(100.0 * (1.0 - f.coverage), 3) + "% (" + std::to_string(f.points_left_out) + " of " +
-                                              std::to_string(f.points) + " farther than " + fmt(f.coverage_radius) + " = 2 spacings)"});
+                                              std::to_string(f.points) + " farther than " + fmt(f.coverage_radius) + " = " + coverage_radius_words(f) + ")"});
     summary.push_back({"cloud-to-mesh distance", "mean " + fmt(f.distance_mean) + ", 95th percentile " + fmt(f.distance_p95) + ", max " +
                                                      fmt(f.distance_max) + " (scene units)"});
     summary.push_back({"holes", std::to_string(f.holes) + " where the scan has points" +

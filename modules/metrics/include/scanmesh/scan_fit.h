@@ -34,7 +34,15 @@ struct ScanFit {
   std::vector<double> point_distance;  ///< each finite input point's distance to the mesh, scene units
   double distance_mean = 0.0, distance_p95 = 0.0, distance_max = 0.0;
   double coverage = 0.0;               ///< share of points within `coverage_radius` of the mesh
-  double coverage_radius = 0.0;        ///< scene units (2 spacings)
+  /// Scene units: 2 spacings, or 3 x `scatter` where the scan's noise is larger than that (a point within
+  /// the noise band around the surface is represented by it, not left out).
+  double coverage_radius = 0.0;
+  /// How far the points scatter across the surface, independently of their neighbours (scene units, a
+  /// standard deviation): from the differences between the signed distances of points whose closest
+  /// points on the mesh are neighbours. Noise differs from point to point; detail the mesh misses (a
+  /// smoothed-off ridge, a surface offset from the points) is shared by neighbours and does not count.
+  /// 0 for a mesh through its points.
+  double scatter = 0.0;
   std::size_t points_left_out = 0;     ///< points farther than coverage_radius
   std::size_t pieces = 0;              ///< connected pieces (through shared vertices)
   double main_piece_share = 0.0;       ///< faces of the largest piece / all faces
@@ -52,11 +60,14 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
 
 /// What a result must reach not to count as degraded.
 struct ScanFitLimits {
-  double min_coverage = 0.97;          ///< share of points within 2 spacings of the mesh
+  double min_coverage = 0.97;          ///< share of points within the coverage radius of the mesh
   double min_hole_perimeter = 8.0;     ///< spacings: shorter holes (a missing triangle or two) are not counted
   std::size_t max_holes = 0;           ///< holes at least min_hole_perimeter long
   std::size_t max_inconsistent_edges = 0;
 };
+
+/// The coverage radius in words: "2 spacings", or "3 x the points' scatter across the surface, 4.6 spacings".
+std::string coverage_radius_words(const ScanFit& fit);
 
 /// The reasons `fit` does not meet `limits`, each one sentence with the numbers; empty when it does.
 std::vector<std::string> scan_fit_problems(const ScanFit& fit, const ScanFitLimits& limits = {});
