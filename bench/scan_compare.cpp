@@ -75,7 +75,9 @@ int run(int argc, char** argv) {
     std::printf("| %-12s | %-22s | %7zu points | | | | %6.2f |\n", name.c_str(), "virtual scan (6 views)", scan.points.size(), t_scan);
     report(name.c_str(), "scanmesh mesh (gp3)", mesh, clean, scan, scale.spacing, t_mesh);
     const auto t2 = std::chrono::steady_clock::now();
-    const AutoReport decided = denoise_auto(mesh, {});
+    DenoiseOptions scanned;  // as the main job runs it on the meshes it makes
+    scanned.scanned = true;
+    const AutoReport decided = denoise_auto(mesh, scanned);
     char label[64];
     std::snprintf(label, sizeof label, "+ --auto (%s, %d its)", decided.mode.c_str(), decided.run.iterations);
     std::fprintf(stderr, "%s: noise level %.3f, %s\n", name.c_str(), decided.noise_level, decided.reason.c_str());

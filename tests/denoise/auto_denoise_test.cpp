@@ -390,6 +390,27 @@ TEST(AutoDenoise, ImpulsiveNoiseMovesOnlyTheOutliers) {
   EXPECT_LT(evaluate(m, &clean).msae_deg, 0.5 * before);
 }
 
+TEST(AutoDenoise, AScannedMeshsSpikesAreNotTakenForImpulsiveNoise) {
+  // Noise on every vertex plus isolated spikes (what greedy projection's slivers look like): read as
+  // impulsive noise, only the spikes would move and the rest stay noisy; a scanned mesh is denoised whole.
+  const Mesh clean = test::make_sphere(4);
+  const Mesh input = noisy(noisy(clean, 0.2), 1.5, NoiseKind::impulsive, 3);
+  ASSERT_GT(analyse_noise(input).isolated_outlier_share, AutoRules{}.impulsive_share);
+  Mesh as_mesh = input;
+  const AutoReport spikes = denoise_auto(as_mesh, {});
+  EXPECT_EQ(spikes.mode, "impulsive") << spikes.reason;
+  Mesh as_scan = input;
+  DenoiseOptions scanned;
+  scanned.scanned = true;
+  const AutoReport whole = denoise_auto(as_scan, scanned);
+  EXPECT_NE(whole.mode, "impulsive") << whole.reason;
+  EXPECT_NE(whole.reason.find("taken for the triangulation's slivers"), std::string::npos) << whole.reason;
+  const double noisy_error = evaluate(input, &clean).msae_deg;
+  const double spikes_error = evaluate(as_mesh, &clean).msae_deg, whole_error = evaluate(as_scan, &clean).msae_deg;
+  EXPECT_LT(whole_error, 0.5 * spikes_error) << noisy_error;
+  EXPECT_LT(whole_error, 0.4 * noisy_error);
+}
+
 TEST(AutoDenoise, LeavesNoiseFreeTessellationsAlone) {
   // A clean CAD-like cube: most vertices lie exactly in the plane of their faces, which scanner noise
   // never produces; --auto must not shuffle such a mesh around.

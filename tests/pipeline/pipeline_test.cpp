@@ -120,6 +120,7 @@ TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {
   EXPECT_NE(json.find("\"mode\": \"" + a.mode + "\"", decision), std::string::npos) << json;
   for (const char* key : {"\"noise_level\": ", "\"soft_crease_share\": ", "\"stop_reason\": ", "\"check\": "})
     EXPECT_NE(json.find(key), std::string::npos) << key;
+  EXPECT_NE(json.find("\"scanned\": \"false\"", decision), std::string::npos) << json;  // a mesh file, not made here
   // A share the run did not measure (here: no flat-edge shares, the run ends before the probe) is left
   // out, never written as -1.
   ASSERT_LT(a.flat_share, 0.0) << a.reason;
@@ -260,6 +261,26 @@ TEST_F(PipelineTest, AMeshThatLeavesItsScanOutIsDegradedNotOk) {
   write("good.xyz", patch);
   const std::string good = "pipeline:\n  - " + path("good.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n  - " + path("good.ply") + "\n";
   EXPECT_EQ(Pipeline::load(write("g.yaml", good), {}).run().status, "ok");
+}
+
+// A mesh the pipeline triangulated from a cloud is denoised as a scanned mesh (every vertex noisy, no
+// impulsive mode), unless the configuration says otherwise.
+TEST_F(PipelineTest, AMeshMadeFromACloudIsDenoisedAsAScannedMesh) {
+  std::string xyz;
+  for (int j = 0; j < 30; ++j)
+    for (int i = 0; i < 30; ++i) xyz += std::to_string(i * 0.01) + " " + std::to_string(j * 0.01) + " " + std::to_string(0.001 * ((i * 7 + j * 3) % 5 - 2)) + "\n";
+  write("c.xyz", xyz);
+  auto scanned_in_sidecar = [&](const std::string& denoise_keys) {
+    const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n" +
+                             "  - type: mesh.denoise\n    auto: true\n" + denoise_keys + "  - type: report\n    figures: false\n  - " + path("out.ply") + "\n";
+    Pipeline::load(write("p.yaml", yaml), {}).run();
+    const std::string json = read_file(report_paths(path("out.ply")).json);
+    if (json.find("\"scanned\": \"true\"") != std::string::npos) return std::string("true");
+    if (json.find("\"scanned\": \"false\"") != std::string::npos) return std::string("false");
+    return json;
+  };
+  EXPECT_EQ(scanned_in_sidecar(""), "true");
+  EXPECT_EQ(scanned_in_sidecar("    scanned: false\n"), "false");
 }
 
 // A stage without progress lines of its own says it is still running while it runs; stages with their

@@ -1,4 +1,5 @@
 // mesh.denoise and mesh.noise.
+#include <algorithm>
 #include <cstdio>
 #include <utility>
 
@@ -47,7 +48,10 @@ struct DenoiseStage : Stage {
       warn_capped(r, m, ctx);
       return;
     }
-    const AutoReport a = denoise_auto(m, o, given, {}, report_progress);
+    // A mesh this pipeline triangulated from a cloud is a scanned mesh unless the configuration says otherwise.
+    DenoiseOptions run_options = o;
+    if (d.meshed && std::find(given.begin(), given.end(), "scanned") == given.end()) run_options.scanned = true;
+    const AutoReport a = denoise_auto(m, run_options, given, {}, report_progress);
     std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iteration%s (%s), radius factor %.3g; check %s",
                   a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
                   a.run.iterations == 1 ? "" : "s", a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
@@ -56,7 +60,8 @@ struct DenoiseStage : Stage {
       std::snprintf(buf, sizeof buf, "; folds unfolded %zu of %zu", a.unfold.folds - a.unfold.remaining, a.unfold.folds);
       details += buf;
     }
-    decision_text = {{"mode", a.mode}, {"reason", a.reason}, {"stop_reason", a.run.stop_reason}, {"check", a.check}};
+    decision_text = {{"mode", a.mode}, {"reason", a.reason}, {"stop_reason", a.run.stop_reason}, {"check", a.check},
+                     {"scanned", run_options.scanned ? "true" : "false"}};
     decision_numbers = {{"noise_level", a.noise_level},
                         {"noise", a.noise},
                         {"exact_plane_fraction", a.exact_plane_fraction},

@@ -50,6 +50,7 @@ struct DenoiseOptions {
   double sliver_guard = 3.0;
   double outlier_jump = 0.0;
   bool outlier_peaks = false;
+  bool scanned = false;
 
   static const Schema<DenoiseOptions>& schema() {
     using O = DenoiseOptions;
@@ -104,7 +105,11 @@ struct DenoiseOptions {
             .flag("outlier_peaks", &O::outlier_peaks,
                   "With outlier_jump: of the vertices over the limit only those with the largest jump in their one-ring "
                   "move (then those largest once the first are left out): a coarse model's corners, which come in "
-                  "chains, stay.");
+                  "chains, stay.")
+            .flag("scanned", &O::scanned,
+                  "The mesh was triangulated from scanned points, so every vertex carries the scanner's noise: auto does "
+                  "not take isolated spikes for impulsive noise (a triangulation's slivers read as such, and moving only "
+                  "them would leave the rest noisy). The main job sets it for the meshes it makes.");
     return s;
   }
 };
