@@ -78,10 +78,16 @@ TEST(ScanFit, PointsTheMeshCoversBesideAGapDoNotMakeItAHole) {
   bool beside = false;
   for (const auto& l : f.loops) beside = beside || (l.kind == BoundaryLoopFit::Kind::gap && l.points_beside);
   EXPECT_TRUE(beside);
-  // One point deeper inside, left out: now measured surface is missing there.
+  // Two points deeper inside, left out: stray points (noise the outlier removal kept), not yet surface.
   seen.push_back(Vec3(12.6, 12.4, 0.0));
+  seen.push_back(Vec3(12.4, 13.1, 0.0));
+  const ScanFit strays = measure_scan_fit(holed, seen, 1.0);
+  EXPECT_EQ(strays.points_left_out, 2u);
+  EXPECT_EQ(strays.holes, 0u);
+  // A third: now measured surface is missing there.
+  seen.push_back(Vec3(13.2, 12.6, 0.0));
   const ScanFit h = measure_scan_fit(holed, seen, 1.0);
-  EXPECT_EQ(h.points_left_out, 1u);
+  EXPECT_EQ(h.points_left_out, 3u);
   EXPECT_EQ(h.holes, 1u);
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <cstdio>
 #include <limits>
 #include <numeric>
@@ -40,6 +41,10 @@ std::vector<int> face_pieces(const Mesh& mesh, std::size_t& count) {
   }
   return out;
 }
+
+// Points left out near a loop's probes that do not make it a hole: one or two are stray points (noise the
+// outlier removal kept, a point the denoised surface moved away from), measured surface takes three.
+constexpr std::size_t kStrays = 2;
 
 // Closed boundary loops, also through pinch vertices (where several boundary edges meet, which
 // Topology::boundary_loops does not chain): boundary edges directed by their face, then split into cycles
@@ -181,9 +186,9 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
 
   // Boundary loops: the longest of each piece is its rim; another loop is a gap when the region it
   // encloses holds no points (the scanner saw nothing there), else a hole the meshing left. The region is
-  // probed at the loop's centroid and halfway from there to each corner: a probe within 1.5 spacings of a
-  // point that the mesh leaves out (farther than the coverage radius from it) means measured surface
-  // inside the loop. A loop too small to enclose an empty region (every probe within 1.5 spacings of a
+  // probed at the loop's centroid and halfway from there to each corner: more than kStrays points that the
+  // mesh leaves out (farther than the coverage radius from it) within 1.5 spacings of the probes mean
+  // measured surface inside the loop. A loop too small to enclose an empty region (every probe within 1.5 spacings of a
   // point) is a hole as well. A gap whose probe lies off the mesh beside a point the mesh covers is marked
   // `points_beside`: noise beside the surface, or a sparsely sampled curve the loop cuts across.
   const Topology topo = build_topology(mesh);
@@ -221,9 +226,12 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
     for (std::size_t k = 0; k < loop.size(); k += step) probes.push_back(0.5 * (c + mesh.positions[loop[k]]));
   }
   probe_start[fit.loops.size()] = probes.size();
-  // Each probe's points within 1.5 spacings: is there one, and is one of them left out. Only the 16
-  // nearest are looked at, so a pile of coincident points costs each probe no more than that.
-  std::vector<char> near_point(probes.size(), 0), near_left_out(probes.size(), 0);
+  // Each probe's points within 1.5 spacings: is there one, and which of them are left out (at most
+  // kStrays + 1 recorded). Only the 16 nearest are looked at, so a pile of coincident points costs each
+  // probe no more than that.
+  std::vector<char> near_point(probes.size(), 0);
+  std::vector<std::array<int, kStrays + 1>> near_left_out(probes.size());
+  for (auto& l : near_left_out) l.fill(-1);
   if (!probes.empty()) {
     const NearestPoints index(finite);
     const auto n = static_cast<long>(probes.size());
@@ -234,7 +242,12 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
       for (int j : near) {
         if ((finite[j] - probes[k]).norm() > 1.5 * spacing) continue;
         near_point[k] = 1;
-        if (fit.point_distance[j] > fit.coverage_radius) near_left_out[k] = 1;
+        if (fit.point_distance[j] > fit.coverage_radius)
+          for (int& slot : near_left_out[k])
+            if (slot < 0) {
+              slot = j;
+              break;
+            }
       }
     }
   }
@@ -251,11 +264,14 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
       ++fit.gaps;
       continue;
     }
-    bool data_inside = false, all_near = true;
+    bool all_near = true;
+    std::vector<int> left_out;  // distinct points left out near the loop's probes
     for (std::size_t k = probe_start[i]; k < probe_start[i + 1]; ++k) {
       all_near = all_near && near_point[k];
-      data_inside = data_inside || near_left_out[k];
+      for (int j : near_left_out[k])
+        if (j >= 0 && std::find(left_out.begin(), left_out.end(), j) == left_out.end()) left_out.push_back(j);
     }
+    const bool data_inside = left_out.size() > kStrays;
     if (data_inside || all_near) {
       b.kind = BoundaryLoopFit::Kind::hole;
       ++fit.holes;

@@ -16,7 +16,7 @@ struct BoundaryLoopFit {
   enum class Kind {
     rim,   ///< the longest loop of an open piece: the edge of what the scanner saw
     gap,   ///< encloses a region without points: the scan saw nothing there
-    hole,  ///< encloses points the mesh leaves out (or is too small to be a gap in the data): a meshing failure
+    hole,  ///< encloses points the mesh leaves out, three or more (or is too small to be a gap in the data): a meshing failure
   };
   Kind kind = Kind::rim;
   double perimeter = 0.0;  ///< scene units
