@@ -270,9 +270,10 @@ TEST_F(PipelineTest, AMeshMadeFromACloudIsDenoisedAsAScannedMesh) {
   for (int j = 0; j < 30; ++j)
     for (int i = 0; i < 30; ++i) xyz += std::to_string(i * 0.01) + " " + std::to_string(j * 0.01) + " " + std::to_string(0.001 * ((i * 7 + j * 3) % 5 - 2)) + "\n";
   write("c.xyz", xyz);
-  auto scanned_in_sidecar = [&](const std::string& denoise_keys) {
+  auto scanned_in_sidecar = [&](const std::string& denoise_keys, const std::string& before_denoise = "") {
     const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n" +
-                             "  - type: mesh.denoise\n    auto: true\n" + denoise_keys + "  - type: report\n    figures: false\n  - " + path("out.ply") + "\n";
+                             before_denoise + "  - type: mesh.denoise\n    auto: true\n" + denoise_keys + "  - type: report\n    figures: false\n  - " +
+                             path("out.ply") + "\n";
     Pipeline::load(write("p.yaml", yaml), {}).run();
     const std::string json = read_file(report_paths(path("out.ply")).json);
     if (json.find("\"scanned\": \"true\"") != std::string::npos) return std::string("true");
@@ -281,6 +282,8 @@ TEST_F(PipelineTest, AMeshMadeFromACloudIsDenoisedAsAScannedMesh) {
   };
   EXPECT_EQ(scanned_in_sidecar(""), "true");
   EXPECT_EQ(scanned_in_sidecar("    scanned: false\n"), "false");
+  // Synthetic noise added after meshing is not the scanner's: impulsive noise must stay possible.
+  EXPECT_EQ(scanned_in_sidecar("", "  - type: mesh.noise\n    kind: impulsive\n"), "false");
 }
 
 // A stage without progress lines of its own says it is still running while it runs; stages with their

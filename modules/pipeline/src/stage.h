@@ -36,6 +36,10 @@ struct Data {
     bool from_grid = false;
   };
   std::optional<Meshed> meshed;
+  /// The mesh was triangulated from scanned points here and nothing has added noise to it since: every
+  /// vertex carries the scanner's noise, and the cloud's outliers were removed before meshing
+  /// (DenoiseOptions::scanned).
+  bool scanned_mesh = false;
 };
 
 /// What every stage of one run shares.

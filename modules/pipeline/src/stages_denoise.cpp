@@ -50,7 +50,7 @@ struct DenoiseStage : Stage {
     }
     // A mesh this pipeline triangulated from a cloud is a scanned mesh unless the configuration says otherwise.
     DenoiseOptions run_options = o;
-    if (d.meshed && std::find(given.begin(), given.end(), "scanned") == given.end()) run_options.scanned = true;
+    if (d.scanned_mesh && std::find(given.begin(), given.end(), "scanned") == given.end()) run_options.scanned = true;
     const AutoReport a = denoise_auto(m, run_options, given, {}, report_progress);
     std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iteration%s (%s), radius factor %.3g; check %s",
                   a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
@@ -95,6 +95,7 @@ struct NoiseStage : Stage {
   void run(Data& d, RunContext&) override {
     add_noise(need_mesh(d, "mesh.noise"), o);
     d.seed = o.seed;
+    d.scanned_mesh = false;  // synthetic noise (impulsive, say) is not the scanner's
   }
 };
 

@@ -36,6 +36,7 @@ struct MeshStage : Stage {
     meshed.spacing = scale_of(d).spacing;
     meshed.from_grid = decision.method == MeshMethod::organized;
     d.meshed = std::move(meshed);
+    d.scanned_mesh = true;
     details = decision.reason;
     decision_text = {{"method", method_name(decision.method)}, {"reason", decision.reason}};
     decision_numbers = decision.numbers;
