@@ -55,8 +55,9 @@ std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
   return out;
 }
 
-// A cloud at least this share of whose normals lie in one hemisphere was seen from one side: a single
-// view (from its sensor every visible surface faces it). Virtual scans of five models (scanmesh scan, 96 x
+// A cloud at least this share of whose normals lie in one hemisphere is one-sided: a single view (from its
+// sensor every visible surface faces it), or an open surface such as a relief or a bowl, which is no
+// closed shape for Poisson either. Virtual scans of five models (scanmesh scan, 96 x
 // 72 and 320 x 240 pixels): one view 1.00, two views 0.66-0.80, three to eight 0.53-0.69; the real
 // single-view clouds of ../shared/data/clouds 0.96-1.00, the complete kitten 0.54.
 constexpr double kOneSidedShare = 0.9;
@@ -229,13 +230,14 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
       say("greedy projection, " + std::to_string(closed_holes) + " holes closed: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
     }
   }
-  // In a single view, a gap the closing left open would have needed a patch farther than the trim
-  // distance from every point: a region behind an occluding edge, where no measured surface lies whatever
-  // points lie beside it, so it no longer counts against greedy projection. (Around a complete object
-  // such a gap is more often a sparsely sampled curve, which Poisson's surface represents better.)
+  // On a one-sided surface (a single view, or an open relief or bowl seen from any number of views: every
+  // normal within one hemisphere) a gap the closing left open would have needed a patch farther than the
+  // trim distance from every point: a region behind an occluding edge, where no measured surface lies
+  // whatever points lie beside it, so it no longer counts against greedy projection. (Around a complete
+  // object such a gap is more often a sparsely sampled curve, which Poisson's surface represents better.)
   const double one_sided = one_sided_share(cloud);
-  const bool single_view = one_sided >= kOneSidedShare;
-  const double gs = shortfall(gf, limits, !(closing_ran && single_view));
+  const bool one_sided_surface = one_sided >= kOneSidedShare;
+  const double gs = shortfall(gf, limits, !(closing_ran && one_sided_surface));
   const std::string gp3_words = closed_holes > 0 ? "greedy projection (" + std::to_string(closed_holes) + " holes closed)" : "greedy projection";
   d.numbers = {{"one_sided_normals", one_sided},
                {"gp3_coverage", gf.coverage},
@@ -245,8 +247,8 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   if (gs == 0.0) {
     d.method = MeshMethod::gp3;
     d.reason = "unorganized cloud: " + gp3_words + " " + fit_words(gf, limits);
-    if (single_view && closing_ran && gf.gaps > 0)
-      d.reason += " (a single view: the gaps left open are regions it did not see)";
+    if (one_sided_surface && closing_ran && gf.gaps > 0)
+      d.reason += " (one-sided, as a single view: the gaps left open are regions no view saw)";
     d.fit = std::move(gf);
     return g;
   }
