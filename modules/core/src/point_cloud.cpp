@@ -80,6 +80,13 @@ std::string surface_problem(const PointCloud& cloud) {
     s << "all " << n << " points are at one position (" << mean.x() << ", " << mean.y() << ", " << mean.z() << ")";
     return s.str();
   }
+  // The cloud stages work in single precision on coordinates taken relative to the cloud's centre: below
+  // this extent the squared distances between neighbours underflow, and no normal can be estimated.
+  if (extent < 1e-15) {
+    s << "the " << n << " points span only " << 2.0 * extent << " (scene units), too little for the cloud stages, which work in single "
+      << "precision (write the coordinates in a smaller unit, micrometres instead of metres, say)";
+    return s.str();
+  }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / static_cast<double>(n));
   const Vec3 l = eig.eigenvalues();  // ascending
   // Collinear points leave a middle eigenvalue at rounding level only: double rounding gives ~1e-32 of the

@@ -49,7 +49,8 @@ void drop_non_finite(PointCloud& cloud);
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
 
-/// Why the finite points cannot outline a surface (all at one position, or all on one line), or "" if
+/// Why the finite points cannot outline a surface (all at one position, all on one line, or spread over
+/// less than single precision can measure), or "" if
 /// they can. Stages that fit planes to neighbours check this first: PCL's neighbour searches also turn
 /// quadratic on a cloud of one repeated point.
 std::string surface_problem(const PointCloud& cloud);
