@@ -284,6 +284,11 @@ TEST_F(PipelineTest, AMeshMadeFromACloudIsDenoisedAsAScannedMesh) {
   EXPECT_EQ(scanned_in_sidecar("    scanned: false\n"), "false");
   // Synthetic noise added after meshing is not the scanner's: impulsive noise must stay possible.
   EXPECT_EQ(scanned_in_sidecar("", "  - type: mesh.noise\n    kind: impulsive\n"), "false");
+  // Without auto the option changes nothing, and the run says so.
+  const std::string plain = "pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    iterations: 2\n    scanned: true\n  - " + path("p.ply") + "\n";
+  const PipelineResult r = Pipeline::load(write("plain.yaml", plain), {}).run();
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("without auto it has no effect"), std::string::npos) << r.warnings[0];
 }
 
 // A stage without progress lines of its own says it is still running while it runs; stages with their

@@ -34,6 +34,8 @@ struct DenoiseStage : Stage {
     };
     char buf[640];
     if (!o.automatic) {
+      if (o.scanned)
+        ctx.warnings.emplace_back("mesh.denoise: scanned only changes what auto chooses (no impulsive mode); without auto it has no effect");
       const DenoiseReport r = denoise(m, o, report_progress);
       if (r.exact_plane_fraction >= 0.1 && o.iterations > 0) {
         std::snprintf(buf, sizeof buf,
