@@ -322,13 +322,13 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // removed before meshing): the isolated spikes it shows are its triangulation's slivers and folds, and
   // moving only them would leave the rest as noisy as it came (on single-view virtual scans of fandisk, noise
   // 0.2-0.3: 20.9 and 27.9 degrees from the clean surface against 4.2 and 7.6 for the regular run).
-  std::string scan_note;
-  if (o.scanned && na.isolated_outlier_share > rules.impulsive_share) {
+  const bool spikes = na.isolated_outlier_share > rules.impulsive_share;
+  std::string scan_note;  // (prefixed to the reason the scanned mesh's run ends with)
+  if (spikes && o.scanned) {
     std::snprintf(line, sizeof line, "%.1f%% of the vertices are isolated spikes, taken for the triangulation's slivers (a scanned mesh: every vertex is noisy); ",
                   100.0 * na.isolated_outlier_share);
     scan_note = line;
-  }
-  if (!o.scanned && na.isolated_outlier_share > rules.impulsive_share) {
+  } else if (spikes) {
     // Impulsive noise: a few vertices far off, the rest exact. Moving everyone would smooth away detail
     // the noise never touched; only the outliers move, towards the planes of their filtered normals.
     r.mode = "impulsive";

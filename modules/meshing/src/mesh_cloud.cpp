@@ -71,25 +71,23 @@ double one_sided_share(const PointCloud& cloud) {
   for (std::size_t i = 0; i < cloud.size(); ++i)
     if (cloud.points[i].allFinite() && cloud.normals[i].allFinite() && cloud.normals[i].squaredNorm() > 0.0) normals.push_back(cloud.normals[i]);
   if (normals.empty()) return 0.0;
-  const std::size_t stride = (normals.size() + 19999) / 20000;
   std::vector<Vec3> directions;
   Vec3 sum = Vec3::Zero();
   for (const Vec3& n : normals) sum += n;
   if (sum.norm() > 0.0) directions.push_back(sum.normalized());
+  const std::size_t stride = (normals.size() + 19999) / 20000;
+  std::vector<Vec3> sample;
+  for (std::size_t i = 0; i < normals.size(); i += stride) sample.push_back(normals[i]);
   constexpr int kDirections = 256;
   const double golden = M_PI * (3.0 - std::sqrt(5.0));
   for (int k = 0; k < kDirections; ++k) {
     const double z = 1.0 - 2.0 * (k + 0.5) / kDirections, r = std::sqrt(1.0 - z * z);
     directions.emplace_back(r * std::cos(golden * k), r * std::sin(golden * k), z);
   }
-  std::size_t best = 0, counted = 0;
-  for (std::size_t i = 0; i < normals.size(); i += stride) ++counted;
-  for (const Vec3& d : directions) {
-    std::size_t same = 0;
-    for (std::size_t i = 0; i < normals.size(); i += stride) same += normals[i].dot(d) > 0.0 ? 1 : 0;
-    best = std::max(best, same);
-  }
-  return static_cast<double>(best) / static_cast<double>(counted);
+  std::size_t best = 0;
+  for (const Vec3& d : directions)
+    best = std::max(best, static_cast<std::size_t>(std::count_if(sample.begin(), sample.end(), [&d](const Vec3& n) { return n.dot(d) > 0.0; })));
+  return static_cast<double>(best) / static_cast<double>(sample.size());
 }
 
 // Above this share of points with opposed normals, mesh.auto also tries Poisson on propagated normals.

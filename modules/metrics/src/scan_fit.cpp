@@ -3,8 +3,8 @@
 #include "scanmesh/scan_fit.h"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numeric>
