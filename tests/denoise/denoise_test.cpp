@@ -144,6 +144,41 @@ TEST(Denoise, OpenBoundaryStaysInPlace) {
   EXPECT_LT(std::abs(z_kept), 0.5 * z_free);
 }
 
+TEST(Denoise, AWavyBoundaryIsNotWornAwayByLongRuns) {
+  // A relief whose outline rises and falls with the surface (waves six edges long, at the curve fit's
+  // scale), like a carved panel. The boundary fit reproduces lines and circles but moves such a curve a
+  // little with every pass, and two hundred passes carried it off the surface: the clean relief's rim
+  // ended 0.31 edges from it, the noisy ones' 1.9-5x as far as in the input. A loop now stops moving
+  // once it has moved as far as the noise across it, so a clean rim stays put and a noisy one ends
+  // about as far from the surface as it started (1.1-1.4x: the fit still cannot tell these waves from
+  // noise, see README, Known limits).
+  Mesh relief = test::make_grid(36);
+  for (auto& p : relief.positions) p.z() = 0.6 * (std::sin(2.0 * M_PI * p.x() / 6.0) + std::sin(2.0 * M_PI * p.y() / 6.0));
+  const Topology t = build_topology(relief);
+  const std::vector<int> rim = test::boundary_vertices(t);
+  auto rim_distance = [&](const Mesh& m) {
+    const MeshMetrics r = evaluate(m, &relief);
+    double sum = 0.0;
+    for (int v : rim) sum += r.vertex_distance[v];
+    return sum / static_cast<double>(rim.size());
+  };
+  DenoiseOptions o;
+  o.iterations = 200;
+  o.radius_factor = 3.0;
+  Mesh clean = relief;
+  denoise(clean, o);
+  EXPECT_LT(rim_distance(clean), 0.02);
+  for (double level : {0.1, 0.3}) {
+    Mesh noisy = relief;
+    NoiseOptions n;
+    n.level = level;
+    add_noise(noisy, n);
+    const double before = rim_distance(noisy);
+    denoise(noisy, o);
+    EXPECT_LT(rim_distance(noisy), 1.5 * before) << "noise " << level;
+  }
+}
+
 TEST(Denoise, JaggedScanBoundaryKeepsItsTriangles) {
   // A range-scan-like patch whose boundary is a staircase of three-quad steps (smooth enough to be fitted
   // as a curve, unlike a one-pixel staircase): straightening it must not squash the triangles behind it

@@ -120,12 +120,14 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 }
 
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
-                            const BoundaryCurves& curves, double window, bool along_too) {
+                            const BoundaryCurves& curves, double window, bool along_too, BoundaryDrift* drift) {
   // Local quadratic least-squares fit of each loop as a function of arc length (a Savitzky-Golay filter):
   // it removes noise along the curve but reproduces lines and circles, so nothing shrinks; a fit never
   // reaches past a corner, and corners themselves are left to update_vertices.
   const auto loops = static_cast<long>(curves.loop_edges.rows());
   std::vector<std::vector<Vec3>> result(curves.loop_edges.rows());
+  const bool limited = drift != nullptr && drift->input != nullptr;
+  if (limited) drift->stopped.resize(curves.loop_edges.rows(), 0);
 #pragma omp parallel
   {
     // Per thread, reused by every loop it takes (this runs in every iteration: nothing per vertex is
@@ -140,7 +142,7 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
       const int ne = curves.loop_edges.size(l);
       const bool closed = curves.loop_closed[l] != 0;
       const int nv = closed ? ne : ne + 1;
-      if (ne < 3 || curves.ragged[curves.edges[edges[0]].a]) continue;
+      if (ne < 3 || curves.ragged[curves.edges[edges[0]].a] || (limited && drift->stopped[l])) continue;
       v.resize(nv);
       for (int k = 0; k < ne; ++k) {
         v[k] = curves.edges[edges[k]].a;
@@ -261,6 +263,25 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
             out[i] = start + move;
             break;
           }
+        }
+      }
+      if (limited) {
+        // The loop's RMS move across the curve since the input (each move less its part along the chord,
+        // as above). Distinct loops write distinct bytes of `stopped`.
+        double sum = 0.0;
+        int count = 0;
+        for (int i = 0; i < nv; ++i) {
+          if (!fitted_row(i)) continue;
+          Vec3 d = out[i] - (*drift->input)[v[i]];
+          const Vec3 chord = positions[v[(i + 1) % nv]] - positions[v[(i + nv - 1) % nv]];
+          const double chord_len = chord.norm();
+          if (chord_len > 0.0) d -= d.dot(chord / chord_len) * (chord / chord_len);
+          sum += d.squaredNorm();
+          ++count;
+        }
+        if (count > 0 && !(std::sqrt(sum / count) <= drift->max_rms)) {
+          out.clear();
+          drift->stopped[l] = 1;
         }
       }
     }

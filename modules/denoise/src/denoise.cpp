@@ -272,6 +272,16 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   compute_face_geometry(mesh.positions, mesh.faces, geometry);
   report.exact_plane_fraction = exact_plane_fraction(mesh, topology, geometry);
 
+  // A boundary moves across its curve by at most the noise there: sqrt 2 x the noise along the normals
+  // (the noise's two components across a curve), as the mesh reads it. Not under impulsive noise, whose
+  // moving vertices are off by impulses rather than by the noise.
+  BoundaryDrift drift;
+  if (boundary && options.outlier_jump <= 0.0) {
+    const NoiseAnalysis noise = analyse_noise(mesh, topology, geometry);
+    drift.input = &mesh.positions;
+    drift.max_rms = std::sqrt(2.0) * noise.level * noise.mean_edge;
+  }
+
   const double c_a = mean_centroid_distance(mesh, topology, geometry);
   report.mean_centroid_distance = c_a;
   if (!(c_a > 0.0)) return report;  // every face degenerate: nothing to filter
@@ -365,7 +375,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
       // Under impulsive noise the vertices that move (outliers, on the boundary those off their curve) are
       // off by impulses, not by noise, so the curve fit moves them along the curve too; the fixed ones are
       // put back below whatever the fit did.
-      smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window, !fixed.empty());
+      smooth_boundary_curves(positions, mesh.faces, topology, curves, options.boundary_window, !fixed.empty(), &drift);
     if (!fixed.empty())
       for (std::size_t v = 0; v < positions.size(); ++v)
         if (fixed[v]) positions[v] = mesh.positions[v];

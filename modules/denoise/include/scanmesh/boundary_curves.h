@@ -6,6 +6,7 @@
 // like the interior, as in the paper.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "scanmesh/mesh.h"
@@ -41,6 +42,17 @@ inline constexpr int kBoundaryWindowMaxEdges = 64;
 /// are polygons, all corners) and ragged loops (mean turn above 70 degrees).
 BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology);
 
+/// Keeps repeated smoothing from wearing a boundary away. The fit reproduces lines and circles, but a
+/// curve with detail at the window's scale (a relief's outline) moves a little with every pass, and a
+/// hundred passes carry it off the surface. A loop stops moving once the RMS of its fitted vertices' moves
+/// across the curve, counted from their input positions, would pass `max_rms` (the noise across a curve,
+/// i.e. at most sqrt 2 x the noise along the normals); the pass that would take it there is not applied.
+struct BoundaryDrift {
+  const std::vector<Vec3>* input = nullptr;  ///< the positions before the first pass
+  double max_rms = std::numeric_limits<double>::infinity();
+  std::vector<std::uint8_t> stopped;  ///< per loop: 1 once it has stopped (filled by smooth_boundary_curves)
+};
+
 /// Smooths each boundary loop as a curve: a robust local quadratic fit over arc length (window = Gaussian
 /// width in mean boundary edge lengths, at most kBoundaryWindowMaxEdges each way) that reproduces lines
 /// and circles, so the boundary does not shrink, and does not smooth across corners (which stay for
@@ -49,9 +61,10 @@ BoundaryCurves build_boundary_curves(const Mesh& mesh, const Topology& topology)
 /// (impulsive noise: the vertices that move are off by impulses, not by noise) moves are taken whole. A
 /// move that would turn one of the vertex's triangles by more than 45 degrees or make
 /// its shape (circumradius / shortest edge) worse than 1.5 is halved, up to three times, then dropped:
-/// straightening a jagged scan boundary must not flatten the triangles behind it.
+/// straightening a jagged scan boundary must not flatten the triangles behind it. With `drift`, loops
+/// stop as described there.
 void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
-                            const BoundaryCurves& curves, double window, bool along_too = false);
+                            const BoundaryCurves& curves, double window, bool along_too = false, BoundaryDrift* drift = nullptr);
 
 /// Impulsive noise along the boundary: 1 for boundary vertices displaced off their curve, judged as the
 /// interior's outliers are (noise_analysis.h, outlier_vertices with peaks) but in one dimension: the

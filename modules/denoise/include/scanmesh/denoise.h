@@ -85,8 +85,9 @@ struct DenoiseOptions {
             .flag("recompute_neighbourhoods", &O::recompute_neighbourhoods,
                   "Rebuild the neighbourhoods every iteration (slower, rarely different).")
             .flag("keep_boundary", &O::keep_boundary,
-                  "Denoise open boundaries as curves so they stay in place; false treats boundary vertices like "
-                  "interior ones, as the authors' code does (boundaries creep inwards).")
+                  "Denoise open boundaries as curves so they stay in place (each loop moves at most as far as the "
+                  "noise across it); false treats boundary vertices like interior ones, as the authors' code does "
+                  "(boundaries creep inwards).")
             .number("boundary_window", &O::boundary_window, closed(0.5, 10), "x boundary edge",
                     "Width of the boundary-curve fit: wider smooths open boundaries more "
                     "(and starts to round them).")
