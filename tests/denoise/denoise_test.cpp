@@ -128,7 +128,9 @@ TEST(Denoise, OpenBoundaryStaysInPlace) {
   };
   Mesh kept = noisy, free = noisy;
   DenoiseOptions o;
-  denoise(kept, o);
+  const DenoiseReport r = denoise(kept, o);
+  EXPECT_EQ(r.boundary_loops, 1u);
+  EXPECT_EQ(r.boundary_loops_stopped, 0u);  // a circle: the fit takes noise out and nothing more
   o.keep_boundary = false;
   denoise(free, o);
   const double clean_length = loop_length(cap);
@@ -166,8 +168,10 @@ TEST(Denoise, AWavyBoundaryIsNotWornAwayByLongRuns) {
   o.iterations = 200;
   o.radius_factor = 3.0;
   Mesh clean = relief;
-  denoise(clean, o);
+  const DenoiseReport r = denoise(clean, o);
   EXPECT_LT(rim_distance(clean), 0.02);
+  EXPECT_EQ(r.boundary_loops, 1u);
+  EXPECT_EQ(r.boundary_loops_stopped, 1u);  // said in the CLI line and the sidecar
   for (double level : {0.1, 0.3}) {
     Mesh noisy = relief;
     NoiseOptions n;

@@ -118,7 +118,7 @@ TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {
   const std::size_t decision = json.find("\"decision\": {");
   ASSERT_NE(decision, std::string::npos) << json;
   EXPECT_NE(json.find("\"mode\": \"" + a.mode + "\"", decision), std::string::npos) << json;
-  for (const char* key : {"\"noise_level\": ", "\"soft_crease_share\": ", "\"stop_reason\": ", "\"check\": "})
+  for (const char* key : {"\"noise_level\": ", "\"soft_crease_share\": ", "\"stop_reason\": ", "\"check\": ", "\"boundary_loops_stopped\": "})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   EXPECT_NE(json.find("\"scanned\": \"false\"", decision), std::string::npos) << json;  // a mesh file, not made here
   // A share the run did not measure (here: no flat-edge shares, the run ends before the probe) is left

@@ -397,6 +397,8 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
       }
     }
   }
+  if (boundary) report.boundary_loops = curves.loop_edges.rows();
+  report.boundary_loops_stopped = static_cast<std::size_t>(std::count(drift.stopped.begin(), drift.stopped.end(), std::uint8_t{1}));
   if (target <= 0.0) report.displacement = displacement();
   report.displacement /= scale;
   for (std::size_t v = 0; v < positions.size(); ++v)

@@ -12,6 +12,13 @@
 namespace scanmesh::detail {
 namespace {
 
+// Loops that stopped moving at the noise's size (a relief's outline the curve fit would carry away).
+std::string stopped_loops(const DenoiseReport& r) {
+  if (r.boundary_loops_stopped == 0) return "";
+  return "; " + std::to_string(r.boundary_loops_stopped) + " of " + std::to_string(r.boundary_loops) +
+         " boundary loops stopped once they had moved as far as the noise";
+}
+
 // Pathological input (many faces on one spot or edge): say that neighbourhoods were cut to the nearest faces.
 void warn_capped(const DenoiseReport& r, const Mesh& m, RunContext& ctx) {
   if (r.capped_neighbourhoods == 0) return;
@@ -46,7 +53,7 @@ struct DenoiseStage : Stage {
       }
       std::snprintf(buf, sizeof buf, "sigma_s %.3g, lambda %.3g, %d iteration%s, radius factor %.3g", o.sigma_s, o.lambda, r.iterations,
                     r.iterations == 1 ? "" : "s", o.radius_factor);
-      details = buf;
+      details = buf + stopped_loops(r);
       warn_capped(r, m, ctx);
       return;
     }
@@ -57,7 +64,7 @@ struct DenoiseStage : Stage {
     std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iteration%s (%s), radius factor %.3g; check %s",
                   a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
                   a.run.iterations == 1 ? "" : "s", a.run.stop_reason.c_str(), a.options.radius_factor, a.check.c_str());
-    details = buf;
+    details = buf + stopped_loops(a.run);
     if (a.unfold.folds > 0) {
       std::snprintf(buf, sizeof buf, "; folds unfolded %zu of %zu", a.unfold.folds - a.unfold.remaining, a.unfold.folds);
       details += buf;
@@ -83,6 +90,8 @@ struct DenoiseStage : Stage {
                         {"flat_floor_from", static_cast<double>(a.flat_floor_from)},
                         {"flat_floor_to", static_cast<double>(a.flat_floor_to)},
                         {"displacement", a.run.displacement},
+                        {"boundary_loops", static_cast<double>(a.run.boundary_loops)},
+                        {"boundary_loops_stopped", static_cast<double>(a.run.boundary_loops_stopped)},
                         {"folds", static_cast<double>(a.unfold.folds)},
                         {"folds_left", static_cast<double>(a.unfold.remaining)}});
     warn_capped(a.run, m, ctx);

@@ -121,6 +121,10 @@ struct DenoiseReport {
   double mean_neighbourhood_size = 0.0;  ///< faces per Omega_i
   std::size_t capped_neighbourhoods = 0;  ///< faces with more than max_neighbourhood_size() neighbours (nearest used)
   std::size_t boundary_vertices = 0;
+  std::size_t boundary_loops = 0;  ///< loops denoised as curves (keep_boundary)
+  /// ...of which stopped moving because they had moved as far as the noise across them (BoundaryDrift in
+  /// boundary_curves.h): a relief's outline, which the curve fit would otherwise carry off the surface.
+  std::size_t boundary_loops_stopped = 0;
   int iterations = 0;
   double seconds_neighbourhoods = 0.0;
   double seconds_filtering = 0.0;
