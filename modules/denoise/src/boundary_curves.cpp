@@ -223,6 +223,16 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
       apply(x, once);
       for (int i = 0; i < nv; ++i) residual[i] = x[i] - once[i];
       apply(residual, correction);
+      // `d` less its part along the chord of vertex i's two curve neighbours (as they are before this pass).
+      auto across = [&](int i, Vec3 d) {
+        const Vec3 chord = positions[v[(i + 1) % nv]] - positions[v[(i + nv - 1) % nv]];
+        const double chord_len = chord.norm();
+        if (chord_len > 0.0) {
+          const Vec3 along = chord / chord_len;
+          d -= d.dot(along) * along;
+        }
+        return d;
+      };
       auto& out = result[l];
       out.resize(nv);
       for (int i = 0; i < nv; ++i) {
@@ -233,19 +243,13 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
         // Move towards the fit, but shorten a move that would squash or fold one of the vertex's triangles
         // (straightening a jagged scan boundary would otherwise flatten the triangles behind it).
         const Vec3 start = positions[v[i]];
-        Vec3 move = fitted - start;
+        Vec3 move = along_too ? Vec3(fitted - start) : across(i, fitted - start);
         // Only the move across the curve is taken. Along it the fit's target is where the vertex's own
         // (noisy) arc length puts it, so that part is a random step, and over a hundred iterations the
         // steps add up to a walk along the boundary (on the noisy hemisphere its vertices ended 19% farther
         // from their clean positions than interior ones did). Spacing along the curve is update_vertices'
         // job. A fitted vertex has neighbours on both sides (the fit needs support on both). Under impulsive
         // noise (along_too) a vertex that moves is off along the curve by its impulse: it takes the whole move.
-        const Vec3 chord = positions[v[(i + 1) % nv]] - positions[v[(i + nv - 1) % nv]];
-        const double chord_len = chord.norm();
-        if (!along_too && chord_len > 0.0) {
-          const Vec3 along = chord / chord_len;
-          move -= move.dot(along) * along;
-        }
         for (int attempt = 0; attempt < 4; ++attempt, move *= 0.5) {
           bool ok = true;
           for (const int* f = topology.vertex_faces.begin(v[i]); ok && f != topology.vertex_faces.end(v[i]); ++f) {
@@ -266,17 +270,13 @@ void smooth_boundary_curves(std::vector<Vec3>& positions, const std::vector<Face
         }
       }
       if (limited) {
-        // The loop's RMS move across the curve since the input (each move less its part along the chord,
-        // as above). Distinct loops write distinct bytes of `stopped`.
+        // The loop's RMS move across the curve since the input. Distinct loops write distinct bytes of
+        // `stopped`.
         double sum = 0.0;
         int count = 0;
         for (int i = 0; i < nv; ++i) {
           if (!fitted_row(i)) continue;
-          Vec3 d = out[i] - (*drift->input)[v[i]];
-          const Vec3 chord = positions[v[(i + 1) % nv]] - positions[v[(i + nv - 1) % nv]];
-          const double chord_len = chord.norm();
-          if (chord_len > 0.0) d -= d.dot(chord / chord_len) * (chord / chord_len);
-          sum += d.squaredNorm();
+          sum += across(i, out[i] - (*drift->input)[v[i]]).squaredNorm();
           ++count;
         }
         if (count > 0 && !(std::sqrt(sum / count) <= drift->max_rms)) {

@@ -182,6 +182,7 @@ struct DenoiseCache::State {
   // copy adds ~80 bytes per face to --auto's peak.
   std::unique_ptr<Topology> topology;
   bool keep_topology = false;  // DenoiseCache::keep_topology, for the run in progress
+  double boundary_noise = -1.0;  // the input's noise across its boundary curves (unit scale), once measured
 };
 
 DenoiseCache::DenoiseCache() = default;
@@ -243,6 +244,17 @@ Topology take_topology(DenoiseCache::State* cached, const Mesh& mesh, bool with_
   return t;
 }
 
+// How far a boundary loop may move across its curve (BoundaryDrift): sqrt 2 x the noise along the normals
+// (the noise's two components across a curve), as the mesh reads it. Measured once per input: --auto's
+// runs on the same mesh take it from the cache.
+double boundary_noise(DenoiseCache::State* cached, const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry) {
+  if (cached != nullptr && cached->boundary_noise >= 0.0) return cached->boundary_noise;
+  const NoiseAnalysis noise = analyse_noise(mesh, topology, geometry);
+  const double across = std::sqrt(2.0) * noise.level * noise.mean_edge;
+  if (cached != nullptr) cached->boundary_noise = across;
+  return across;
+}
+
 // Leaves mesh.positions as they were and sets *nonfinite to a vertex if the result is not finite.
 DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
                                const IterationObserver& observer, long* nonfinite, DenoiseCache::State* cached) {
@@ -272,14 +284,12 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   compute_face_geometry(mesh.positions, mesh.faces, geometry);
   report.exact_plane_fraction = exact_plane_fraction(mesh, topology, geometry);
 
-  // A boundary moves across its curve by at most the noise there: sqrt 2 x the noise along the normals
-  // (the noise's two components across a curve), as the mesh reads it. Not under impulsive noise, whose
-  // moving vertices are off by impulses rather than by the noise.
+  // A boundary moves across its curve by at most the noise there. Not under impulsive noise, whose moving
+  // vertices are off by impulses rather than by the noise.
   BoundaryDrift drift;
   if (boundary && options.outlier_jump <= 0.0) {
-    const NoiseAnalysis noise = analyse_noise(mesh, topology, geometry);
     drift.input = &mesh.positions;
-    drift.max_rms = std::sqrt(2.0) * noise.level * noise.mean_edge;
+    drift.max_rms = boundary_noise(cached, mesh, topology, geometry);
   }
 
   const double c_a = mean_centroid_distance(mesh, topology, geometry);
