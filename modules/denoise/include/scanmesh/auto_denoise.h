@@ -93,7 +93,7 @@ struct AutoRules {
   /// When the feature-keeping run reaches its target at iteration t, it goes on to plateau_span x t; if its displacement
   /// grew by less than this share meanwhile, the surface has levelled off (flat and developable parts keep
   /// improving while nothing moves) and every iteration runs; otherwise iteration t is returned. 0 = off.
-  double plateau_growth = 0.015;
+  double plateau_growth = 0.010;
   /// How far the plateau rule looks on: to this many times the target's iterations (rounded up).
   double plateau_span = 1.5;
   /// The flat floor: a feature-keeping run that reaches its target before flat_floor_iterations with at
