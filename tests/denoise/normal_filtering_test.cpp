@@ -161,3 +161,53 @@ TEST(NormalFiltering, CentroidsFromThePositionsGiveTheSameBits) {
   EXPECT_EQ(a, b);
   EXPECT_NE(a, m.positions);  // the update did move the vertices
 }
+
+// The iterations' face pass (refresh_faces) does in one read of the corners what compute_face_geometry,
+// the kernel's own packing and mark_new_slivers did in three: the same bits, the same flags.
+TEST(NormalFiltering, OneFacePassGivesTheSameBitsAsThree) {
+  Mesh input = test::make_zippered_cylinder();  // a tessellation with slivers of its own
+  for (auto& p : input.positions) p += Vec3(1e3, -2e3, 5e2);  // far from the origin
+  std::vector<Vec3> moved = input.positions;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  for (auto& p : moved) p += Vec3(noise(rng), noise(rng), noise(rng));  // makes new slivers and unmakes some
+  const Topology t = build_topology(input);
+
+  FaceGeometry three;
+  compute_face_geometry(moved, input.faces, three, false);
+  std::vector<std::uint8_t> flags_three, flags_one;
+  const std::size_t count_three = mark_new_slivers(moved, input.positions, input.faces, 3.0, flags_three);
+  ASSERT_GT(count_three, 0u);
+  ASSERT_LT(count_three, input.faces.size());
+
+  FaceGeometry one;
+  FilterWork work;
+  work.positions = &moved;
+  work.faces = &input.faces;
+  EXPECT_EQ(refresh_faces(moved, input.positions, input.faces, 3.0, one, work, flags_one), count_three);
+  EXPECT_EQ(flags_one, flags_three);
+  EXPECT_EQ(one.normals, three.normals);
+  EXPECT_EQ(one.areas, three.areas);
+  EXPECT_TRUE(one.centroids.empty());
+  EXPECT_TRUE(work.records_ready);
+
+  // Filtering from the refreshed records gives what filtering with its own packing gives, and uses them once.
+  FaceGeometry g;
+  compute_face_geometry(moved, input.faces, g);
+  const double ca = mean_centroid_distance(input, t, g);
+  const PackedRows nbh = packed_face_neighbourhoods(t, g, 3.0 * ca, NeighbourhoodKind::ball, max_neighbourhood_size(3.0));
+  std::vector<Vec3> from_refresh, from_packing;
+  filter_face_normals(one, nbh, ca, 0.5, RobustEstimator::tukey, from_refresh, nullptr, &work);
+  EXPECT_FALSE(work.records_ready);
+  FilterWork fresh;
+  fresh.positions = &moved;
+  fresh.faces = &input.faces;
+  filter_face_normals(three, nbh, ca, 0.5, RobustEstimator::tukey, from_packing, nullptr, &fresh);
+  EXPECT_EQ(from_refresh, from_packing);
+  EXPECT_NE(from_refresh, three.normals);  // the filter did change the normals
+
+  // Without a sliver limit no flags are computed.
+  std::vector<std::uint8_t> none;
+  EXPECT_EQ(refresh_faces(moved, input.positions, input.faces, 0.0, one, work, none), 0u);
+  EXPECT_TRUE(none.empty());
+}

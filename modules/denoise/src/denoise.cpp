@@ -351,16 +351,18 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   // it (the same bits), so the iterations do not hold a table of them (24 bytes a face); the other
   // estimators and per-iteration neighbourhood searches read the table.
   const bool lean = options.estimator == RobustEstimator::tukey && !options.recompute_neighbourhoods;
+  std::vector<std::uint8_t> slivers;  // per face, for the sliver guard (filled every iteration)
+  std::size_t new_slivers = 0;
   if (lean) {
     work.positions = &positions;
     work.faces = &mesh.faces;
     std::vector<Vec3>().swap(geometry.centroids);
+    new_slivers = refresh_faces(positions, mesh.positions, mesh.faces, options.sliver_guard, geometry, work, slivers);
   }
   double lambda = options.lambda;
   VertexUpdateTerms terms;
   terms.boundary = boundary ? &curves : nullptr;
   terms.feature_aware = options.feature_aware_fidelity;
-  std::vector<std::uint8_t> slivers;  // per face, for the sliver guard (filled every iteration)
   report.stop_reason = "iterations";
   for (int it = 0; it < options.iterations; ++it) {
     if (options.recompute_neighbourhoods && it > 0) {
@@ -377,7 +379,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     t0 = std::chrono::steady_clock::now();
     terms.lambda = lambda;
     const bool guard = options.sliver_guard > 0.0 &&
-                       mark_new_slivers(positions, mesh.positions, mesh.faces, options.sliver_guard, slivers) > 0;
+                       (lean ? new_slivers : mark_new_slivers(positions, mesh.positions, mesh.faces, options.sliver_guard, slivers)) > 0;
     terms.slivers = guard ? &slivers : nullptr;
     update_vertices(positions, topology, fidelity, geometry, filtered, terms, updated, &mesh.faces);
     positions.swap(updated);
@@ -389,7 +391,9 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
     if (!fixed.empty())
       for (std::size_t v = 0; v < positions.size(); ++v)
         if (fixed[v]) positions[v] = mesh.positions[v];
-    compute_face_geometry(positions, mesh.faces, geometry, !lean);  // for the next iteration and the stop rule
+    // For the next iteration and the stop rule.
+    if (lean) new_slivers = refresh_faces(positions, mesh.positions, mesh.faces, options.sliver_guard, geometry, work, slivers);
+    else compute_face_geometry(positions, mesh.faces, geometry, true);
     report.seconds_vertex_update += seconds_since(t0);
     lambda *= options.decay;
     ++report.iterations;

@@ -10,6 +10,7 @@
 
 #include "scanmesh/memory.h"
 #include "scanmesh/neighbourhoods.h"
+#include "scanmesh/vertex_update.h"
 
 namespace scanmesh {
 
@@ -151,6 +152,15 @@ template <int W>
 using PackedFace = FilterWork::Record;
 static_assert(sizeof(PackedFace) == 32);
 
+void size_records(std::vector<PackedFace>& out, std::size_t n) {
+  if (out.capacity() < n) {  // the neighbours' records are read at random: huge pages
+    std::vector<PackedFace>().swap(out);
+    out.reserve(n);
+    advise_huge_pages(out.data(), n * sizeof(PackedFace));
+  }
+  out.resize(n);
+}
+
 // Centroids are stored relative to face 0's, so a mesh far from the origin keeps its precision (any
 // fixed origin gives the same weights up to rounding; this one depends on nothing but the input).
 void pack_faces(const FaceGeometry& g, const FilterWork* work, std::vector<PackedFace>& out) {
@@ -160,19 +170,9 @@ void pack_faces(const FaceGeometry& g, const FilterWork* work, std::vector<Packe
     throw std::logic_error("filter_face_normals: geometry without centroids and no positions to compute them from");
   auto centroid = [&](long f) -> Vec3 { return stored ? g.centroids[f] : face_centroid(*work->positions, (*work->faces)[f]); };
   const Vec3 mid = nf > 0 ? centroid(0) : Vec3::Zero();
-  if (out.capacity() < g.normals.size()) {  // the neighbours' records are read at random: huge pages
-    std::vector<PackedFace>().swap(out);
-    out.reserve(g.normals.size());
-    advise_huge_pages(out.data(), g.normals.size() * sizeof(PackedFace));
-  }
-  out.resize(g.normals.size());
+  size_records(out, g.normals.size());
 #pragma omp parallel for schedule(static)
-  for (long i = 0; i < nf; ++i) {
-    const Vec3& n = g.normals[i];
-    const Vec3 c = centroid(i) - mid;
-    out[i] = {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z()), static_cast<float>(g.areas[i]),
-              static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()), 0.0f};
-  }
+  for (long i = 0; i < nf; ++i) out[i] = FilterWork::record(g.normals[i], g.areas[i], centroid(i), mid);
 }
 
 // The eight neighbours' fields, lanes 0-7 (as one eight-lane vector or two four-lane halves).
@@ -446,6 +446,51 @@ bool cpu_has_avx2() {
 
 void set_filter_isa(FilterIsa isa) { g_isa = isa; }
 
+void FilterWork::size_records(std::size_t n) { scanmesh::size_records(records, n); }
+
+std::size_t refresh_faces(const std::vector<Vec3>& positions, const std::vector<Vec3>& input, const std::vector<Face>& faces,
+                          double sliver_limit, FaceGeometry& geometry, FilterWork& work, std::vector<std::uint8_t>& slivers) {
+  const auto nf = static_cast<long>(faces.size());
+  geometry.normals.resize(faces.size());
+  geometry.areas.resize(faces.size());
+  std::vector<Vec3>().swap(geometry.centroids);
+  work.size_records(faces.size());
+  const bool guard = sliver_limit > 0.0;
+  if (guard) slivers.resize(faces.size());
+  const Vec3 origin = nf > 0 ? face_centroid(positions, faces[0]) : Vec3::Zero();
+  Vec3* const normal = geometry.normals.data();
+  double* const area = geometry.areas.data();
+  FilterWork::Record* const record = work.records.data();
+  std::size_t count = 0;
+#pragma omp parallel for schedule(static) reduction(+ : count)
+  for (long f = 0; f < nf; ++f) {
+    const Face& t = faces[f];
+    const Vec3& a = positions[t[0]];
+    const Vec3& b = positions[t[1]];
+    const Vec3& c = positions[t[2]];
+    // triangle_normal's operations, in scalars (see is_sliver in vertex_update.cpp), the cross product
+    // shared with the sliver test.
+    const double ux = b.x() - a.x(), uy = b.y() - a.y(), uz = b.z() - a.z();  // b - a
+    const double vx = c.x() - a.x(), vy = c.y() - a.y(), vz = c.z() - a.z();  // c - a
+    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    const double cross2 = nx * nx + ny * ny + nz * nz;
+    const double len = std::sqrt(cross2);
+    area[f] = len > 1e-300 ? 0.5 * len : 0.0;
+    normal[f] = len > 1e-300 ? Vec3(nx / len, ny / len, nz / len) : Vec3::Zero();
+    record[f] = FilterWork::record(normal[f], area[f], face_centroid(positions, t), origin);
+    if (guard) {
+      const double wx = c.x() - b.x(), wy = c.y() - b.y(), wz = c.z() - b.z();  // c - b
+      const bool sliver = sliver_shaped(wx * wx + wy * wy + wz * wz, vx * vx + vy * vy + vz * vz, ux * ux + uy * uy + uz * uz, cross2, sliver_limit) &&
+                          triangle_shape(a, b, c) > triangle_shape(input[t[0]], input[t[1]], input[t[2]]);
+      slivers[f] = sliver ? 1 : 0;
+      count += sliver ? 1 : 0;
+    }
+  }
+  work.records_ready = true;
+  return count;
+}
+
+
 namespace {
 
 // `make_rows()` gives each thread its view of the neighbourhood table.
@@ -469,7 +514,8 @@ void filter_with(const FaceGeometry& g, MakeRows make_rows, double sigma_c, doub
       constexpr long kBlock = 512;
       std::vector<PackedFace> local;
       std::vector<PackedFace>& packed = work != nullptr ? work->records : local;
-      pack_faces(g, work, packed);
+      if (work == nullptr || !work->records_ready || packed.size() != g.normals.size()) pack_faces(g, work, packed);
+      if (work != nullptr) work->records_ready = false;
       const KernelArgs args{packed.data(), g, sigma_c, face_sigma, filtered, Widths(sigma_c, sigma_s)};
       const auto kernel = g_isa == FilterIsa::best && cpu_has_avx2() ? filter_tukey_avx2<Rows> : filter_tukey_sse2<Rows>;
 #pragma omp parallel

@@ -17,18 +17,15 @@ bool every_edge_kept(const Topology& topology, const std::vector<std::uint8_t>& 
   return true;
 }
 
-// True if a triangle's circumradius exceeds `limit` x its shortest edge (or it has no area), without roots:
-// R = abc / (4A), so R > limit x l_min  <=>  a^2 b^2 c^2 > limit^2 l_min^2 16 A^2, and 16 A^2 = 4 |cross|^2.
-// In scalars: Eigen's two-lane code for the cross product stored two halves and loaded them as one,
-// which stalled the store forwarding on every face (a third of the sliver pass).
+// sliver_shaped for triangle (p, q, r). In scalars: Eigen's two-lane code for the cross product stored two
+// halves and loaded them as one, which stalled the store forwarding on every face (a third of the sliver pass).
 bool is_sliver(const Vec3& p, const Vec3& q, const Vec3& r, double limit) {
   const double ux = q.x() - p.x(), uy = q.y() - p.y(), uz = q.z() - p.z();  // q - p
   const double vx = r.x() - p.x(), vy = r.y() - p.y(), vz = r.z() - p.z();  // r - p
   const double wx = r.x() - q.x(), wy = r.y() - q.y(), wz = r.z() - q.z();  // r - q
   const double a2 = wx * wx + wy * wy + wz * wz, b2 = vx * vx + vy * vy + vz * vz, c2 = ux * ux + uy * uy + uz * uz;
   const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
-  const double cross2 = cx * cx + cy * cy + cz * cz;
-  return a2 * b2 * c2 > 4.0 * limit * limit * std::min({a2, b2, c2}) * cross2;
+  return sliver_shaped(a2, b2, c2, cx * cx + cy * cy + cz * cz, limit);
 }
 
 // How the filtered normals around a vertex meet, from their area-weighted tensor: one large eigenvalue on

@@ -1,6 +1,7 @@
 #pragma once
 // Stage 1 of the robust two-stage denoiser: bilateral filtering of face normals with a robust
 // similarity weight (Yadav et al. 2019, eq. 1-2).
+#include <cstdint>
 #include <vector>
 
 #include "scanmesh/denoise.h"
@@ -24,7 +25,26 @@ struct FilterWork {
   /// Where the centroids come from when the geometry has none (compute_face_geometry without them).
   const std::vector<Vec3>* positions = nullptr;
   const std::vector<Face>* faces = nullptr;
+  /// True: `records` already hold the geometry's faces (refreshed with it in one pass, as the denoiser's
+  /// iterations do) and the next call uses them as they are; the call clears it.
+  bool records_ready = false;
+  /// `records` sized for n faces (allocated once, with huge pages asked for: the kernel reads them at random).
+  void size_records(std::size_t n);
+  /// Face f's record: its normal and area, and its centroid less `origin` (face 0's centroid).
+  static Record record(const Vec3& normal, double area, const Vec3& centroid, const Vec3& origin) {
+    const Vec3 c = centroid - origin;
+    return {static_cast<float>(normal.x()), static_cast<float>(normal.y()), static_cast<float>(normal.z()), static_cast<float>(area),
+            static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()), 0.0f};
+  }
 };
+
+/// The denoiser's face pass, from one read of each face's corners: the face geometry (normals and areas;
+/// no centroids), `work`'s records for the next filtering (which then skips its own packing) and, with
+/// sliver_limit > 0, the sliver guard's flags (returns how many). The same bits as compute_face_geometry,
+/// the kernel's packing and mark_new_slivers(positions, input, ...), which read the corners once each
+/// (together a tenth of an iteration's time on the 810k-face dragon).
+std::size_t refresh_faces(const std::vector<Vec3>& positions, const std::vector<Vec3>& input, const std::vector<Face>& faces,
+                          double sliver_limit, FaceGeometry& geometry, FilterWork& work, std::vector<std::uint8_t>& slivers);
 
 /// n~_i = normalize( sum_{j in Omega_i} a_j f(|c_i - c_j|, sigma_c) g(|n_i - n_j|, sigma_s) n_j ),
 /// with f(d) = exp(-d^2 / (2 sigma_c^2)). `neighbourhoods` row i is Omega_i. A face whose weights all

@@ -4,6 +4,7 @@
 //   v_i <- v_i + 1/|F_v(i)| sum_k n~_k (n~_k . (c_k - v_i)) + lambda_I (D_i + D_t_i)
 // where D_i is the |v_i - v_j|^2-weighted differential coordinate and D_t_i its tangential part.
 #include <cstdint>
+#include <algorithm>
 #include <vector>
 
 #include "scanmesh/boundary_curves.h"
@@ -34,6 +35,13 @@ struct VertexUpdateTerms {
   /// those faces also move by 0.3 x the tangential part of D_i, feature-aware as above, whatever lambda is.
   const std::vector<std::uint8_t>* slivers = nullptr;
 };
+
+/// True if a triangle's circumradius exceeds `limit` x its shortest edge (or it has no area), from its
+/// squared edge lengths and the squared length of its edges' cross product, without roots: R = abc / (4A),
+/// so R > limit x l_min <=> a^2 b^2 c^2 > limit^2 l_min^2 16 A^2, and 16 A^2 = 4 |cross|^2.
+inline bool sliver_shaped(double a2, double b2, double c2, double cross2, double limit) {
+  return a2 * b2 * c2 > 4.0 * limit * limit * std::min({a2, b2, c2}) * cross2;
+}
 
 /// Flags the faces whose circumradius exceeds `limit` x their shortest edge and that are worse shaped than
 /// they were in `input` (the run made them slivers; a tessellation's own slivers are left as they are).
