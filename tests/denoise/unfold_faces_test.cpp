@@ -96,6 +96,13 @@ TEST(UnfoldFaces, SliversOfTheInputAreLeftAlone) {
   const UnfoldReport r = unfold_faces(p, grid.faces, t, input, up(grid));
   EXPECT_EQ(r.moved, 0u);
   EXPECT_EQ(p, before);
+
+  // On a triangulation of scanned points the slivers are the triangulation's, and the same fold is undone.
+  const UnfoldReport scanned = unfold_faces(p, grid.faces, t, input, up(grid), 10, 0.5, true);
+  EXPECT_GT(scanned.folds, 0u);
+  EXPECT_EQ(scanned.remaining, 0u);
+  EXPECT_EQ(turned(grid, p), 0);
+  for (const Vec3& q : p) EXPECT_EQ(q.z(), 0.0);  // within the plane
 }
 
 TEST(UnfoldFaces, OnlyMovesThatUndoAFoldOrStraightenItAreMade) {

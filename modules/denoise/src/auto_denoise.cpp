@@ -304,7 +304,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     // against which its constants were fitted.
     const std::vector<Vec3> unfold_reference = fold_reference(reference, m.faces, topo, geometry.areas);
     std::vector<Vec3> pos = m.positions;
-    r.unfold = unfold_faces(pos, m.faces, topo, input, unfold_reference);
+    // A scanned mesh's slivers are its triangulation's, and a fold there is a defect like any other.
+    r.unfold = unfold_faces(pos, m.faces, topo, input, unfold_reference, 10, 0.5, o.scanned);
     if (r.unfold.moved == 0) return;
     FaceGeometry before, after;
     compute_face_geometry(m.positions, m.faces, before);

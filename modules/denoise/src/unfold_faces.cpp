@@ -58,7 +58,8 @@ std::vector<Vec3> fold_reference(const std::vector<Vec3>& reference, const std::
 }
 
 UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
-                          const std::vector<Vec3>& input, const std::vector<Vec3>& reference, int rounds, double step) {
+                          const std::vector<Vec3>& input, const std::vector<Vec3>& reference, int rounds, double step,
+                          bool input_slivers) {
   UnfoldReport report;
   const std::size_t nf = faces.size(), nv = positions.size();
   if (nf == 0 || reference.size() != nf || input.size() != nv || topology.vertex_faces.rows() != nv) return report;
@@ -78,6 +79,7 @@ UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>&
   auto normal_at = [&](std::size_t f) { return raw_normal(positions[faces[f][0]], positions[faces[f][1]], positions[faces[f][2]]); };
   auto turned = [&](std::size_t f) { return normal_at(f).dot(reference[f]) < 0.0; };
   auto input_sliver = [&](std::size_t f) {
+    if (input_slivers) return false;
     const Face& t = faces[f];
     return triangle_shape(input[t[0]], input[t[1]], input[t[2]]) > kSliverShape;
   };

@@ -110,7 +110,8 @@ struct DenoiseOptions {
             .flag("scanned", &O::scanned,
                   "The mesh was triangulated from scanned points, so every vertex carries the scanner's noise: auto does "
                   "not take isolated spikes for impulsive noise (a triangulation's slivers read as such, and moving only "
-                  "them would leave the rest noisy). The main job sets it for the meshes it makes.");
+                  "them would leave the rest noisy), and its last step also undoes folds on the triangulation's own "
+                  "slivers. The main job sets it for the meshes it makes.");
     return s;
   }
 };

@@ -37,7 +37,11 @@ std::vector<Vec3> fold_reference(const std::vector<Vec3>& reference, const std::
 /// `rounds` rounds; each moves every corner of a folded face by `step` x its distance to the mean of its
 /// neighbours (a boundary vertex: of its two boundary neighbours), without the component along its
 /// faces' reference normal. Deterministic, one thread; the work is proportional to the folds' stars.
+/// `input_slivers`: whether faces that were slivers in the input are unfolded too (false: they are left as
+/// they are, as on a CAD tessellation, whose slivers' normals are noise; true for a triangulation of
+/// scanned points, whose slivers are the triangulation's and whose folds are real defects).
 UnfoldReport unfold_faces(std::vector<Vec3>& positions, const std::vector<Face>& faces, const Topology& topology,
-                          const std::vector<Vec3>& input, const std::vector<Vec3>& reference, int rounds = 10, double step = 0.5);
+                          const std::vector<Vec3>& input, const std::vector<Vec3>& reference, int rounds = 10, double step = 0.5,
+                          bool input_slivers = false);
 
 }  // namespace scanmesh
