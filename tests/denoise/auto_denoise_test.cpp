@@ -650,3 +650,41 @@ TEST(AutoDenoise, UndoesFoldsTheNoiseMadeAndTheRunLeft) {
   EXPECT_EQ(folds_at_pulled(m), 0u) << a.unfold.folds << " folds found, " << a.unfold.remaining << " left";
   for (int v : pulled) EXPECT_NEAR(m.positions[static_cast<std::size_t>(v)].z(), 0.0, 0.05 * 0.01);  // within the plane, to 5% of an edge
 }
+
+TEST(AutoDenoise, AScannedMeshsOwnFoldsAreUndoneEvenWhenItsInputIsReturned) {
+  // A plane with small noise and three vertices pulled within it across their neighbours' edges, run with
+  // no iterations (as when the result check returns the input): a triangulation of scanned points gets
+  // its folds undone all the same, within the plane; any other mesh is returned exactly as it was.
+  const Mesh clean = test::make_grid(40, 0.01);
+  Mesh m = noisy(clean, 0.05, NoiseKind::gaussian, 3);
+  const std::vector<int> pulled = {10 * 41 + 10, 20 * 41 + 25, 30 * 41 + 15};
+  for (int v : pulled) m.positions[static_cast<std::size_t>(v)] += Vec3(0.016, 0.004, 0.0);
+  auto folded = [](const Mesh& mesh) {
+    std::size_t n = 0;
+    for (const Face& f : mesh.faces) {
+      const Vec3& a = mesh.positions[f[0]];
+      n += (mesh.positions[f[1]] - a).cross(mesh.positions[f[2]] - a).z() < 0.0 ? 1 : 0;
+    }
+    return n;
+  };
+  ASSERT_GE(folded(m), pulled.size());
+  DenoiseOptions o;
+  o.iterations = 0;
+  Mesh plain = m;
+  const AutoReport a = denoise_auto(plain, o, {"iterations"});
+  EXPECT_EQ(a.run.iterations, 0);
+  EXPECT_EQ(plain.positions, m.positions);
+  o.scanned = true;
+  Mesh scanned = m;
+  const AutoReport b = denoise_auto(scanned, o, {"iterations"});
+  EXPECT_EQ(b.run.iterations, 0);
+  EXPECT_GT(b.unfold.folds, 0u);
+  EXPECT_EQ(folded(scanned), 0u) << b.unfold.folds << " folds found, " << b.unfold.remaining << " left";
+  // Only the folds' corners move, and along the surface (its noisy normals tilt the moves a little).
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    const bool near = std::any_of(pulled.begin(), pulled.end(),
+                                  [&](int p) { return (clean.positions[v] - clean.positions[static_cast<std::size_t>(p)]).norm() < 0.025; });
+    if (!near) EXPECT_EQ(scanned.positions[v], m.positions[v]) << v;
+    EXPECT_NEAR(scanned.positions[v].z(), m.positions[v].z(), 0.15 * 0.01) << v;
+  }
+}

@@ -299,7 +299,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // Step 6: folds the run left, unfolded where that turns no more of the surface against the reference.
   const std::vector<Vec3> input = mesh.positions;
   auto unfold = [&](Mesh& m) {
-    if (r.run.iterations == 0) return;  // the input returned as it was
+    // The input returned as it was is left as it is, unless it is a triangulation of scanned points, whose
+    // own folds are defects the run did not have to make.
+    if (r.run.iterations == 0 && !o.scanned) return;
     // Folds the noise made and the run left are folds too; the result check keeps the raw reference,
     // against which its constants were fitted.
     const std::vector<Vec3> unfold_reference = fold_reference(reference, m.faces, topo, geometry.areas);
