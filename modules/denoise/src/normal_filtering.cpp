@@ -468,20 +468,14 @@ std::size_t refresh_faces(const std::vector<Vec3>& positions, const std::vector<
     const Vec3& a = positions[t[0]];
     const Vec3& b = positions[t[1]];
     const Vec3& c = positions[t[2]];
-    // triangle_normal's operations, in scalars (see is_sliver in vertex_update.cpp), the cross product
-    // shared with the sliver test.
-    const double ux = b.x() - a.x(), uy = b.y() - a.y(), uz = b.z() - a.z();  // b - a
-    const double vx = c.x() - a.x(), vy = c.y() - a.y(), vz = c.z() - a.z();  // c - a
-    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    const double cross2 = nx * nx + ny * ny + nz * nz;
-    const double len = std::sqrt(cross2);
+    // triangle_normal's operations, from the cross product the sliver test shares.
+    const TriangleTerms terms(a, b, c);
+    const double len = std::sqrt(terms.cross2());
     area[f] = len > 1e-300 ? 0.5 * len : 0.0;
-    normal[f] = len > 1e-300 ? Vec3(nx / len, ny / len, nz / len) : Vec3::Zero();
+    normal[f] = len > 1e-300 ? Vec3(terms.cx / len, terms.cy / len, terms.cz / len) : Vec3::Zero();
     record[f] = FilterWork::record(normal[f], area[f], face_centroid(positions, t), origin);
     if (guard) {
-      const double wx = c.x() - b.x(), wy = c.y() - b.y(), wz = c.z() - b.z();  // c - b
-      const bool sliver = sliver_shaped(wx * wx + wy * wy + wz * wz, vx * vx + vy * vy + vz * vz, ux * ux + uy * uy + uz * uz, cross2, sliver_limit) &&
-                          triangle_shape(a, b, c) > triangle_shape(input[t[0]], input[t[1]], input[t[2]]);
+      const bool sliver = terms.sliver(sliver_limit) && triangle_shape(a, b, c) > triangle_shape(input[t[0]], input[t[1]], input[t[2]]);
       slivers[f] = sliver ? 1 : 0;
       count += sliver ? 1 : 0;
     }
@@ -489,7 +483,6 @@ std::size_t refresh_faces(const std::vector<Vec3>& positions, const std::vector<
   work.records_ready = true;
   return count;
 }
-
 
 namespace {
 

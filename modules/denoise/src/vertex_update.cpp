@@ -17,17 +17,6 @@ bool every_edge_kept(const Topology& topology, const std::vector<std::uint8_t>& 
   return true;
 }
 
-// sliver_shaped for triangle (p, q, r). In scalars: Eigen's two-lane code for the cross product stored two
-// halves and loaded them as one, which stalled the store forwarding on every face (a third of the sliver pass).
-bool is_sliver(const Vec3& p, const Vec3& q, const Vec3& r, double limit) {
-  const double ux = q.x() - p.x(), uy = q.y() - p.y(), uz = q.z() - p.z();  // q - p
-  const double vx = r.x() - p.x(), vy = r.y() - p.y(), vz = r.z() - p.z();  // r - p
-  const double wx = r.x() - q.x(), wy = r.y() - q.y(), wz = r.z() - q.z();  // r - q
-  const double a2 = wx * wx + wy * wy + wz * wz, b2 = vx * vx + vy * vy + vz * vz, c2 = ux * ux + uy * uy + uz * uz;
-  const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
-  return sliver_shaped(a2, b2, c2, cx * cx + cy * cy + cz * cz, limit);
-}
-
 // How the filtered normals around a vertex meet, from their area-weighted tensor: one large eigenvalue on
 // smooth parts, two along a sharp edge (then `edge` is its direction), three at a corner.
 enum class Feature { smooth, edge, corner };
@@ -240,7 +229,7 @@ std::size_t mark_new_slivers(const std::vector<Vec3>& positions, const std::vect
   for (long f = 0; f < nf; ++f) {
     const Face& t = faces[f];
     // The root-free test first; the shapes themselves only for the few it flags.
-    const bool sliver = is_sliver(positions[t[0]], positions[t[1]], positions[t[2]], limit) &&
+    const bool sliver = TriangleTerms(positions[t[0]], positions[t[1]], positions[t[2]]).sliver(limit) &&
                         triangle_shape(positions[t[0]], positions[t[1]], positions[t[2]]) > triangle_shape(input[t[0]], input[t[1]], input[t[2]]);
     flags[f] = sliver ? 1 : 0;
     count += sliver ? 1 : 0;

@@ -3,8 +3,8 @@
 // eq. 4-6, with the typos fixed as in docs):
 //   v_i <- v_i + 1/|F_v(i)| sum_k n~_k (n~_k . (c_k - v_i)) + lambda_I (D_i + D_t_i)
 // where D_i is the |v_i - v_j|^2-weighted differential coordinate and D_t_i its tangential part.
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "scanmesh/boundary_curves.h"
@@ -36,12 +36,24 @@ struct VertexUpdateTerms {
   const std::vector<std::uint8_t>* slivers = nullptr;
 };
 
-/// True if a triangle's circumradius exceeds `limit` x its shortest edge (or it has no area), from its
-/// squared edge lengths and the squared length of its edges' cross product, without roots: R = abc / (4A),
-/// so R > limit x l_min <=> a^2 b^2 c^2 > limit^2 l_min^2 16 A^2, and 16 A^2 = 4 |cross|^2.
-inline bool sliver_shaped(double a2, double b2, double c2, double cross2, double limit) {
-  return a2 * b2 * c2 > 4.0 * limit * limit * std::min({a2, b2, c2}) * cross2;
-}
+/// Triangle (p, q, r) in scalars: its squared edge lengths (a2 opposite p, b2 opposite q, c2 opposite r) and
+/// the cross product (q - p) x (r - p), with the operations Eigen's cross() and squaredNorm() do (the same
+/// bits). Eigen's two-lane code for the cross product stored two halves and loaded them as one, which
+/// stalled the store forwarding on every face (a third of the sliver pass).
+struct TriangleTerms {
+  double a2, b2, c2, cx, cy, cz;
+  TriangleTerms(const Vec3& p, const Vec3& q, const Vec3& r) {
+    const double ux = q.x() - p.x(), uy = q.y() - p.y(), uz = q.z() - p.z();  // q - p
+    const double vx = r.x() - p.x(), vy = r.y() - p.y(), vz = r.z() - p.z();  // r - p
+    const double wx = r.x() - q.x(), wy = r.y() - q.y(), wz = r.z() - q.z();  // r - q
+    a2 = wx * wx + wy * wy + wz * wz, b2 = vx * vx + vy * vy + vz * vz, c2 = ux * ux + uy * uy + uz * uz;
+    cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+  }
+  [[nodiscard]] double cross2() const { return cx * cx + cy * cy + cz * cz; }
+  /// True if the circumradius exceeds `limit` x the shortest edge (or there is no area), without roots:
+  /// R = abc / (4A), so R > limit x l_min <=> a^2 b^2 c^2 > limit^2 l_min^2 16 A^2, and 16 A^2 = 4 |cross|^2.
+  [[nodiscard]] bool sliver(double limit) const { return a2 * b2 * c2 > 4.0 * limit * limit * std::min({a2, b2, c2}) * cross2(); }
+};
 
 /// Flags the faces whose circumradius exceeds `limit` x their shortest edge and that are worse shaped than
 /// they were in `input` (the run made them slivers; a tessellation's own slivers are left as they are).
