@@ -23,9 +23,16 @@ std::vector<double> depths(const PointCloud& cloud, Vec3& origin, Eigen::Matrix3
 constexpr double kMaxDistinctShare = 0.02;
 constexpr double kMinEqualNeighbours = 0.25;
 
-// One line of pixels (a row or a column) turned from treads into ramps. `at(k)` is the pixel index of
-// position k; `level` maps a depth to its index among the distinct depths. Writes the corrected depth and
-// whether a neighbouring tread one level away took part.
+// The distinct depths of a frame, ascending (NaN, no return, left out).
+std::vector<double> depth_levels(const std::vector<double>& d) {
+  std::vector<double> levels;
+  for (double z : d)
+    if (!std::isnan(z)) levels.push_back(z);
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  return levels;
+}
+
 // The typical step at each level: the median gap between the distinct depths around it (levels the scene
 // does not populate leave larger gaps, which are then depth jumps rather than steps).
 std::vector<double> local_steps(const std::vector<double>& levels) {
@@ -48,6 +55,9 @@ bool one_step(long a, long b, const std::vector<double>& levels, const std::vect
   return levels[static_cast<std::size_t>(lo) + 1] - levels[static_cast<std::size_t>(lo)] <= 1.5 * steps[static_cast<std::size_t>(lo)];
 }
 
+// One line of pixels (a row or a column) turned from treads into ramps. `at(k)` is the pixel index of
+// position k; `level` maps a depth to its index among the distinct depths. Writes the corrected depth and
+// whether a neighbouring tread one level away took part.
 template <class At>
 void ramp_line(int n, At at, const std::vector<double>& d, const std::vector<double>& levels, const std::vector<double>& steps,
                std::vector<double>& out, std::vector<std::uint8_t>& linked) {
@@ -105,13 +115,9 @@ QuantizationReport analyse_depth_quantization(const PointCloud& cloud) {
   Vec3 origin;
   Eigen::Matrix3d to_sensor;
   const std::vector<double> d = depths(cloud, origin, to_sensor);
-  std::vector<double> levels;
-  for (double z : d)
-    if (!std::isnan(z)) levels.push_back(z);
-  r.valid_points = levels.size();
-  if (levels.size() < 100) return r;
-  std::sort(levels.begin(), levels.end());
-  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  r.valid_points = static_cast<std::size_t>(std::count_if(d.begin(), d.end(), [](double z) { return !std::isnan(z); }));
+  if (r.valid_points < 100) return r;
+  const std::vector<double> levels = depth_levels(d);
   r.distinct_depths = levels.size();
   std::vector<double> steps;
   for (std::size_t i = 1; i < levels.size(); ++i) steps.push_back(levels[i] - levels[i - 1]);
@@ -141,11 +147,7 @@ QuantizationReport dequantize_depth(PointCloud& cloud, const DequantizeOptions& 
   Vec3 origin;
   Eigen::Matrix3d to_sensor;
   const std::vector<double> d = depths(cloud, origin, to_sensor);
-  std::vector<double> levels;
-  for (double z : d)
-    if (!std::isnan(z)) levels.push_back(z);
-  std::sort(levels.begin(), levels.end());
-  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  const std::vector<double> levels = depth_levels(d);
   const std::vector<double> steps = local_steps(levels);
   const int w = cloud.width, h = cloud.height;
   std::vector<double> by_row(d.size(), std::nan("")), by_col(d.size(), std::nan(""));
