@@ -108,3 +108,43 @@ TEST(MeshCloud, ASingleViewKeepsGreedyProjectionWithTheGapItDidNotSee) {
   // Four views of the same scene see it from several sides.
   EXPECT_LT(decision_number(mesh_scan_of_ball_on_a_plane(4), "one_sided_normals"), 0.9);
 }
+
+// A bowl (an open hemisphere) scanned from views all round sees both of its sides, each view's normals
+// facing its own sensor. Greedy projection meshes the two sides' points in overlapping pieces that cover
+// every point and leave no hole (its pieces lie over one another); mesh.auto must see that and give one
+// layer: the largest, the pieces over it removed (or Poisson, if that fits the points better).
+TEST(MeshCloud, GreedyProjectionThatMeshesABowlTwiceIsNotKept) {
+  VirtualScanOptions vo;
+  vo.views = 10;
+  vo.width = 96;
+  vo.height = 72;
+  vo.noise = 0.2;
+  PointCloud c = merge_views(virtual_scan(test::make_cap(24, 96, 0.5 * M_PI), vo));
+  estimate_normals(c, NormalOptions{});  // as the main job: surface normals, each facing the sensor that saw the point
+  const CloudScale s = measure_scale(c);
+  Mesh gp3 = triangulate_gp3(c, Gp3Options{}, s);
+  clean_mesh(gp3, CleanupOptions{});
+  const ScanFit twice = measure_scan_fit(gp3, c.points, s.spacing);
+  const ScanFitLimits limits;
+  ASSERT_GT(twice.layered_share, limits.max_layered_share);  // the failure this test is about
+  EXPECT_GE(twice.coverage, limits.min_coverage);
+  bool layer_problem = false;
+  for (const auto& p : scan_fit_problems(twice)) layer_problem = layer_problem || p.find("meshed twice") != std::string::npos;
+  EXPECT_TRUE(layer_problem);
+
+  MeshingDecision d;
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
+  ASSERT_FALSE(m.faces.empty()) << d.reason;
+  EXPECT_LE(d.fit.layered_share, limits.max_layered_share) << d.reason;
+  EXPECT_GE(d.fit.coverage, limits.min_coverage) << d.reason;
+  EXPECT_NE(d.reason.find("lying over others"), std::string::npos) << d.reason;
+  // One layer: greedy projection's pieces together have about 1.6 times its area (each of the noisy
+  // layers has more area than the bowl's 2 pi: the noise's roughness).
+  FaceGeometry g;
+  compute_face_geometry(m.positions, m.faces, g);
+  double area = 0.0, twice_area = 0.0;
+  for (double a : g.areas) area += a;
+  compute_face_geometry(gp3.positions, gp3.faces, g);
+  for (double a : g.areas) twice_area += a;
+  EXPECT_LT(area, 0.75 * twice_area) << d.reason;
+}

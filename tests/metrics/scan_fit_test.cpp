@@ -138,3 +138,44 @@ TEST(ScanFit, DetailTheMeshMissesIsNotScatter) {
   // A mesh through its points has no scatter at all.
   EXPECT_EQ(measure_scan_fit(g, points_of(g), 1.0).scatter, 0.0);
 }
+
+namespace {
+
+// `base` with a copy of `other` appended as a separate piece, moved by `offset`.
+Mesh with_piece(const Mesh& base, const Mesh& other, const Vec3& offset) {
+  Mesh m = base;
+  const int first = static_cast<int>(m.positions.size());
+  for (const Vec3& p : other.positions) m.positions.push_back(p + offset);
+  for (const Face& f : other.faces) m.faces.push_back({f[0] + first, f[1] + first, f[2] + first});
+  return m;
+}
+
+}  // namespace
+
+TEST(ScanFit, APieceLyingOverAnotherIsASurfaceMeshedTwice) {
+  // A sheet's two sides meshed as layers of their own: a 20 x 20 grid and, 0.3 spacings above it, a
+  // 10 x 10 one (200 of the 1000 faces).
+  const Mesh sheet = test::make_grid(20);
+  const Mesh layered = with_piece(sheet, test::make_grid(10), Vec3(4.5, 4.5, 0.3));
+  std::vector<Vec3> points = layered.positions;
+  const ScanFit f = measure_scan_fit(layered, points, 1.0);
+  EXPECT_EQ(f.pieces, 2u);
+  EXPECT_EQ(f.layered_pieces, 1u);
+  EXPECT_NEAR(f.layered_share, 0.2, 1e-12);
+  const auto problems = scan_fit_problems(f);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("1 piece holding 20.0% of the faces lies over another piece"), std::string::npos) << problems[0];
+
+  // The same piece beside the sheet, 3 spacings from its edge (a second object of the scene): not layered.
+  const Mesh apart = with_piece(sheet, test::make_grid(10), Vec3(23.0, 0.0, 0.0));
+  const ScanFit g = measure_scan_fit(apart, apart.positions, 1.0);
+  EXPECT_EQ(g.pieces, 2u);
+  EXPECT_EQ(g.layered_pieces, 0u);
+  EXPECT_EQ(g.layered_share, 0.0);
+  EXPECT_TRUE(scan_fit_problems(g).empty());
+
+  // Touching it along one side only (a piece split off by a crack): a fifth of its vertices are near the
+  // sheet, not half.
+  const Mesh beside = with_piece(sheet, test::make_grid(10), Vec3(21.0, 0.0, 0.0));
+  EXPECT_EQ(measure_scan_fit(beside, beside.positions, 1.0).layered_pieces, 0u);
+}

@@ -91,6 +91,8 @@ int run_eval(const std::vector<std::string>& args) {
                   fit->distance_max);
       std::printf("loops:      %zu rims, %zu holes (largest %.4g around), %zu gaps in the data; %zu pieces (main %.1f%% of faces)\n",
                   fit->rims, fit->holes, fit->largest_hole, fit->gaps, fit->pieces, 100.0 * fit->main_piece_share);
+      if (fit->layered_pieces > 0)
+        std::printf("layers:     %zu pieces (%.1f%% of the faces) lie over another piece\n", fit->layered_pieces, 100.0 * fit->layered_share);
       for (const auto& p : scan_fit_problems(*fit)) std::printf("problem:    %s\n", p.c_str());
     }
   }

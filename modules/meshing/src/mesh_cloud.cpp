@@ -27,10 +27,12 @@ bool held_open(const BoundaryLoopFit& l, double spacing, const ScanFitLimits& li
   return open_loop(l) && l.perimeter >= limits.min_hole_perimeter * spacing;
 }
 
-// How far a mesh falls short of representing the points: percentage points of coverage below the limit,
-// plus one for every loop held open (with `gaps_count` false, holes only). 0 = nothing wrong.
+// How far a mesh falls short of representing the points: percentage points of coverage below the limit
+// and of faces lying over other pieces above theirs, plus one for every loop held open (with `gaps_count`
+// false, holes only). 0 = nothing wrong.
 double shortfall(const ScanFit& fit, const ScanFitLimits& limits, bool gaps_count = true) {
   double s = std::max(0.0, limits.min_coverage - fit.coverage) * 100.0;
+  s += std::max(0.0, fit.layered_share - limits.max_layered_share) * 100.0;
   for (const auto& l : fit.loops)
     s += held_open(l, fit.spacing, limits) && (gaps_count || l.kind == BoundaryLoopFit::Kind::hole) ? 1.0 : 0.0;
   return s;
@@ -52,6 +54,10 @@ std::string fit_words(const ScanFit& f, const ScanFitLimits& limits) {
   std::snprintf(b, sizeof b, "covers %.1f%% of the points, %zu hole%s", 100.0 * f.coverage, holes, holes == 1 ? "" : "s");
   std::string out = b;
   if (beside > 0) out += " and " + std::to_string(beside) + " gap" + (beside == 1 ? "" : "s") + " with points beside";
+  if (f.layered_share > limits.max_layered_share) {
+    std::snprintf(b, sizeof b, ", %.1f%% of its faces in pieces lying over others", 100.0 * f.layered_share);
+    out += b;
+  }
   return out;
 }
 
@@ -218,6 +224,21 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
   ScanFit gf = measure_scan_fit(g, points, scale.spacing);
   say("greedy projection: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
+  // Both sides of a thin sheet or an open shell seen (each view's normals facing its own sensor): greedy
+  // projection meshes each side's points as a layer of its own, pieces lying over one another. The
+  // largest layer is kept and the pieces over it removed; what they alone covered counts as left out.
+  std::size_t peeled = 0;
+  if (gf.layered_share > limits.max_layered_share) {
+    const std::vector<std::uint8_t> over = faces_lying_over(g, gf.coverage_radius, &peeled);
+    std::size_t kept = 0;
+    for (std::size_t f = 0; f < g.faces.size(); ++f)
+      if (!over[f]) g.faces[kept++] = g.faces[f];
+    g.faces.resize(kept);
+    clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
+    gf = measure_scan_fit(g, points, scale.spacing);
+    say("greedy projection, " + std::to_string(peeled) + " pieces lying over others removed: " + std::to_string(g.faces.size()) + " faces, " +
+        fit_words(gf, limits));
+  }
   std::size_t closed_holes = 0;
   const bool closing_ran = method.fill_holes && (shortfall(gf, limits) > 0.0 || gf.gaps > 0);
   if (closing_ran) {
@@ -236,12 +257,20 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   const double one_sided = one_sided_share(cloud);
   const bool one_sided_surface = one_sided >= kOneSidedShare;
   const double gs = shortfall(gf, limits, !(closing_ran && one_sided_surface));
-  const std::string gp3_words = closed_holes > 0 ? "greedy projection (" + std::to_string(closed_holes) + " holes closed)" : "greedy projection";
+  std::string gp3_words = "greedy projection";
+  if (peeled > 0 || closed_holes > 0) {
+    gp3_words += " (";
+    if (peeled > 0) gp3_words += std::to_string(peeled) + " piece" + (peeled == 1 ? "" : "s") + " lying over others removed";
+    if (peeled > 0 && closed_holes > 0) gp3_words += ", ";
+    if (closed_holes > 0) gp3_words += std::to_string(closed_holes) + " holes closed";
+    gp3_words += ")";
+  }
   d.numbers = {{"one_sided_normals", one_sided},
                {"gp3_coverage", gf.coverage},
                {"gp3_holes", static_cast<double>(gf.holes)},
                {"gp3_pieces", static_cast<double>(gf.pieces)},
-               {"gp3_holes_closed", static_cast<double>(closed_holes)}};
+               {"gp3_holes_closed", static_cast<double>(closed_holes)},
+               {"gp3_layers_removed", static_cast<double>(peeled)}};
   if (gs == 0.0) {
     d.method = MeshMethod::gp3;
     d.reason = "unorganized cloud: " + gp3_words + " " + fit_words(gf, limits);

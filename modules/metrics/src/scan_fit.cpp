@@ -120,7 +120,72 @@ double scatter_across_surface(const std::vector<Vec3>& feet, const std::vector<d
   return *mid / 0.6745 / std::sqrt(2.0);
 }
 
+// Faces of the pieces lying over a larger piece (see faces_lying_over), from each face's piece label and
+// the pieces' face counts; `count` is set to the number of such pieces. Each vertex of a piece other than
+// the largest looks at its 32 nearest vertices for one of a larger piece within `radius`: on a surface
+// meshed twice its own layer holds about a dozen vertices that close and the other layer as many again.
+std::vector<std::uint8_t> layered_faces(const Mesh& mesh, const std::vector<int>& face_piece, const std::vector<std::size_t>& piece_faces,
+                                        double radius, std::size_t& count) {
+  std::vector<std::uint8_t> out(mesh.num_faces(), 0);
+  count = 0;
+  if (piece_faces.size() < 2) return out;
+  // Rank 0 is the largest piece; equal pieces in the order of their first face.
+  std::vector<int> order(piece_faces.size()), rank(piece_faces.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return piece_faces[a] > piece_faces[b]; });
+  for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = static_cast<int>(r);
+  std::vector<int> vertex_rank(mesh.num_vertices(), -1);
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f)
+    for (int v : mesh.faces[f]) vertex_rank[v] = rank[face_piece[f]];
+  std::vector<Vec3> used;
+  std::vector<int> used_rank, queries;
+  for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+    if (vertex_rank[v] < 0) continue;
+    if (vertex_rank[v] > 0) queries.push_back(static_cast<int>(used.size()));
+    used.push_back(mesh.positions[v]);
+    used_rank.push_back(vertex_rank[v]);
+  }
+  const NearestPoints index(used);
+  std::vector<char> over(used.size(), 0);
+  const auto n = static_cast<long>(queries.size());
+  const double r2 = radius * radius;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long k = 0; k < n; ++k) {
+    thread_local std::vector<int> near;
+    const int q = queries[static_cast<std::size_t>(k)];
+    index.nearest(used[q], 32, near);
+    for (int j : near)
+      if (used_rank[j] < used_rank[q] && (used[j] - used[q]).squaredNorm() <= r2) {
+        over[q] = 1;
+        break;
+      }
+  }
+  std::vector<std::size_t> vertices(piece_faces.size(), 0), lying_over(piece_faces.size(), 0);
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    ++vertices[used_rank[i]];
+    lying_over[used_rank[i]] += over[i];
+  }
+  std::vector<char> dropped(piece_faces.size(), 0);
+  for (std::size_t r = 1; r < piece_faces.size(); ++r)
+    if (2 * lying_over[r] >= vertices[r]) {
+      dropped[r] = 1;
+      ++count;
+    }
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) out[f] = dropped[rank[face_piece[f]]];
+  return out;
+}
+
 }  // namespace
+
+std::vector<std::uint8_t> faces_lying_over(const Mesh& mesh, double radius, std::size_t* pieces_over) {
+  std::size_t pieces = 0, count = 0;
+  const std::vector<int> piece = face_pieces(mesh, pieces);
+  std::vector<std::size_t> piece_faces(pieces, 0);
+  for (int p : piece) ++piece_faces[p];
+  std::vector<std::uint8_t> out = layered_faces(mesh, piece, piece_faces, radius, count);
+  if (pieces_over) *pieces_over = count;
+  return out;
+}
 
 std::string coverage_radius_words(const ScanFit& fit) {
   if (!(fit.spacing > 0.0) || fit.coverage_radius <= 2.0 * fit.spacing) return "2 spacings";
@@ -183,6 +248,8 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
   for (int p : piece) ++piece_faces[p];
   fit.main_piece_share = static_cast<double>(*std::max_element(piece_faces.begin(), piece_faces.end())) /
                          static_cast<double>(mesh.num_faces());
+  const std::vector<std::uint8_t> layered = layered_faces(mesh, piece, piece_faces, fit.coverage_radius, fit.layered_pieces);
+  fit.layered_share = static_cast<double>(std::count(layered.begin(), layered.end(), std::uint8_t{1})) / static_cast<double>(mesh.num_faces());
 
   // Boundary loops: the longest of each piece is its rim; another loop is a gap when the region it
   // encloses holds no points (the scanner saw nothing there), else a hole the meshing left. The region is
@@ -302,6 +369,14 @@ std::vector<std::string> scan_fit_problems(const ScanFit& fit, const ScanFitLimi
                   fit.spacing > 0 ? fit.largest_hole / fit.spacing : 0.0);
     out.emplace_back(buf);
   }
+  if (fit.layered_share > limits.max_layered_share) {
+    std::snprintf(buf, sizeof buf,
+                  "%zu piece%s holding %.1f%% of the faces lie%s over another piece (at least half of each within %s of it): the "
+                  "surface is meshed twice, as when both sides of a thin sheet or shell were scanned; at most %.1f%% expected",
+                  fit.layered_pieces, fit.layered_pieces == 1 ? "" : "s", 100.0 * fit.layered_share, fit.layered_pieces == 1 ? "s" : "",
+                  coverage_radius_words(fit).c_str(), 100.0 * limits.max_layered_share);
+    out.emplace_back(buf);
+  }
   if (fit.inconsistent_edges > limits.max_inconsistent_edges) {
     std::snprintf(buf, sizeof buf, "%zu edges between faces of opposite orientation", fit.inconsistent_edges);
     out.emplace_back(buf);
@@ -316,6 +391,7 @@ void write_json(JsonWriter& w, const ScanFit& f) {
   w.field("points_left_out", f.points_left_out);
   w.field("distance_mean", f.distance_mean).field("distance_p95", f.distance_p95).field("distance_max", f.distance_max);
   w.field("pieces", f.pieces).field("main_piece_share", f.main_piece_share);
+  w.field("layered_pieces", f.layered_pieces).field("layered_share", f.layered_share);
   w.field("rims", f.rims).field("holes", f.holes).field("gaps", f.gaps).field("largest_hole", f.largest_hole);
   w.field("inconsistent_edges", f.inconsistent_edges);
   w.key("problems").begin_array();
