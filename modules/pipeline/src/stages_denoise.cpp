@@ -96,7 +96,11 @@ struct DenoiseStage : Stage {
                         {"folds_left", static_cast<double>(a.unfold.remaining)}});
     warn_capped(a.run, m, ctx);
     if (a.check != "passed" && a.check != "not needed")
-      ctx.warnings.push_back("mesh.denoise: the result check ended the run early (" + a.check + "); the last iteration that passed is kept");
+      ctx.warnings.push_back(a.run.iterations == 0
+                                 ? "mesh.denoise: no iteration passed the result check (" + a.check +
+                                       "): the mesh is left as it came, noise and all (a mesh whose faces overlap, such as a surface meshed twice, "
+                                       "turns surface under any denoising)"
+                                 : "mesh.denoise: the result check ended the run early (" + a.check + "); the last iteration that passed is kept");
   }
 };
 
