@@ -96,8 +96,9 @@ std::string html_page(const ReportInput& in, const ReportContent& c) {
                                     (f.holes ? " (largest " + fmt(f.largest_hole) + " around)" : std::string()) + "; " +
                                     std::to_string(f.gaps) + " gaps in the data; " + std::to_string(f.rims) + " outer rims"});
     summary.push_back({"main piece", fmt(100.0 * f.main_piece_share, 3) + "% of the faces" +
-                                         (f.layered_pieces ? "; " + std::to_string(f.layered_pieces) + " pieces with " + fmt(100.0 * f.layered_share, 3) +
-                                                                 "% of the faces lie over another (the surface meshed twice)"
+                                         (f.layered_pieces ? "; " + std::to_string(f.layered_pieces) + (f.layered_pieces == 1 ? " piece" : " pieces") +
+                                                                 " with " + fmt(100.0 * f.layered_share, 3) +
+                                                                 "% of the faces lying over another (the surface meshed twice)"
                                                            : std::string())});
   }
   rows(h, summary);
