@@ -156,6 +156,7 @@ const Checkpoint* walk(const std::vector<Checkpoint>& curve, const PairData& p, 
     const bool fails = (by_area ? c.turned_area : static_cast<double>(c.turned)) > allowed;
     if (!fails) last = &c;
     if (fails && last && last->it > 0 && r.check_patience > 0 && c.it - last->it >= r.check_patience) break;
+    if (fails && !last && r.check_patience > 0 && c.it >= r.check_patience) break;  // nothing passed: the input
     // As the real run: the probe is asked before the target.
     if (!probe(c)) {
       probed_out = true;

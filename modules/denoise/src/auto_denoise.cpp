@@ -178,6 +178,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       // Once iterations have passed, a run whose last `check_patience` iterations all failed is turning
       // surface and ends: what it keeps stays the last iteration that passed.
       if (fails && last_pass > 0 && rules.check_patience > 0 && it - last_pass >= rules.check_patience) return false;
+      // Nor does a run none of whose first `check_patience` iterations passed go on (on the corpus's
+      // curves every run that passes at all passes by iteration 5): its input is what it keeps.
+      if (fails && last_pass == 0 && rules.check_patience > 0 && it >= rules.check_patience) return false;
       if (track && target_on) {
         creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
         creases_at[it] = bend_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
