@@ -229,10 +229,10 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   // largest layer is kept and the pieces over it removed; what they alone covered counts as left out.
   std::size_t peeled = 0;
   if (gf.layered_share > limits.max_layered_share) {
-    const std::vector<std::uint8_t> over = faces_lying_over(g, gf.coverage_radius, &peeled);
+    peeled = gf.layered_pieces;
     std::size_t kept = 0;
     for (std::size_t f = 0; f < g.faces.size(); ++f)
-      if (!over[f]) g.faces[kept++] = g.faces[f];
+      if (!gf.layered_faces[f]) g.faces[kept++] = g.faces[f];
     g.faces.resize(kept);
     clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
     gf = measure_scan_fit(g, points, scale.spacing);

@@ -120,7 +120,7 @@ double scatter_across_surface(const std::vector<Vec3>& feet, const std::vector<d
   return *mid / 0.6745 / std::sqrt(2.0);
 }
 
-// Faces of the pieces lying over a larger piece (see faces_lying_over), from each face's piece label and
+// Faces of the pieces lying over a larger piece (ScanFit::layered_pieces), from each face's piece label and
 // the pieces' face counts; `count` is set to the number of such pieces. Each vertex of a piece other than
 // the largest looks at its 32 nearest vertices for one of a larger piece within `radius`: on a surface
 // meshed twice its own layer holds about a dozen vertices that close and the other layer as many again.
@@ -176,16 +176,6 @@ std::vector<std::uint8_t> layered_faces(const Mesh& mesh, const std::vector<int>
 }
 
 }  // namespace
-
-std::vector<std::uint8_t> faces_lying_over(const Mesh& mesh, double radius, std::size_t* pieces_over) {
-  std::size_t pieces = 0, count = 0;
-  const std::vector<int> piece = face_pieces(mesh, pieces);
-  std::vector<std::size_t> piece_faces(pieces, 0);
-  for (int p : piece) ++piece_faces[p];
-  std::vector<std::uint8_t> out = layered_faces(mesh, piece, piece_faces, radius, count);
-  if (pieces_over) *pieces_over = count;
-  return out;
-}
 
 std::string coverage_radius_words(const ScanFit& fit) {
   if (!(fit.spacing > 0.0) || fit.coverage_radius <= 2.0 * fit.spacing) return "2 spacings";
@@ -248,8 +238,10 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
   for (int p : piece) ++piece_faces[p];
   fit.main_piece_share = static_cast<double>(*std::max_element(piece_faces.begin(), piece_faces.end())) /
                          static_cast<double>(mesh.num_faces());
-  const std::vector<std::uint8_t> layered = layered_faces(mesh, piece, piece_faces, fit.coverage_radius, fit.layered_pieces);
-  fit.layered_share = static_cast<double>(std::count(layered.begin(), layered.end(), std::uint8_t{1})) / static_cast<double>(mesh.num_faces());
+  fit.layered_faces = layered_faces(mesh, piece, piece_faces, fit.coverage_radius, fit.layered_pieces);
+  fit.layered_share = static_cast<double>(std::count(fit.layered_faces.begin(), fit.layered_faces.end(), std::uint8_t{1})) /
+                      static_cast<double>(mesh.num_faces());
+  if (fit.layered_pieces == 0) std::vector<std::uint8_t>().swap(fit.layered_faces);
 
   // Boundary loops: the longest of each piece is its rim; another loop is a gap when the region it
   // encloses holds no points (the scanner saw nothing there), else a hole the meshing left. The region is

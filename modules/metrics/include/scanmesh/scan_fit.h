@@ -47,11 +47,14 @@ struct ScanFit {
   std::size_t points_left_out = 0;     ///< points farther than coverage_radius
   std::size_t pieces = 0;              ///< connected pieces (through shared vertices)
   double main_piece_share = 0.0;       ///< faces of the largest piece / all faces
-  /// Pieces lying over larger ones (faces_lying_over, within `coverage_radius`): the same surface meshed
-  /// twice (typically a thin sheet or an open shell whose two sides were scanned, each side's points
-  /// meshed as a layer of their own), ...
+  /// Pieces lying over larger ones: at least half of a piece's vertices within `coverage_radius` of a
+  /// vertex of a piece with more faces (of equal pieces the one whose first face comes first counts as
+  /// larger). The same surface meshed twice: typically a thin sheet or an open shell whose two sides were
+  /// scanned, each side's points meshed as a layer of their own. The largest piece never lies over
+  /// another, so removing these pieces leaves one layer. Their count, ...
   std::size_t layered_pieces = 0;
-  double layered_share = 0.0;  ///< ...and their faces / all faces
+  double layered_share = 0.0;                ///< ...their faces / all faces, ...
+  std::vector<std::uint8_t> layered_faces;   ///< ...and 1 for each of their faces (empty when there is none)
   std::vector<BoundaryLoopFit> loops;  ///< every closed boundary loop
   std::size_t rims = 0, gaps = 0, holes = 0;
   double largest_hole = 0.0;           ///< perimeter of the largest hole, scene units (0 if none)
@@ -63,13 +66,6 @@ struct ScanFit {
 /// connects every pair of neighbouring pixels but across depth jumps, too oblique views and missing
 /// pixels) every loop that is not a rim is a gap of the scan. Parallel; independent of the thread count.
 ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid = false);
-
-/// 1 for each face of a piece lying over a larger one: at least half of the piece's vertices within
-/// `radius` of a vertex of a piece with more faces (pieces joined through shared vertices; of equal
-/// pieces the one whose first face comes first counts as larger). The largest piece never lies over
-/// another, so removing the flagged faces leaves one layer. `pieces_over`: how many pieces were flagged.
-/// Parallel; independent of the thread count.
-std::vector<std::uint8_t> faces_lying_over(const Mesh& mesh, double radius, std::size_t* pieces_over = nullptr);
 
 /// What a result must reach not to count as degraded.
 struct ScanFitLimits {
