@@ -547,3 +547,28 @@ TEST(Denoise, ImpulsiveNoiseOnAnOpenMeshMovesTheRimsOutliersOnly) {
     }
   }
 }
+
+// The mean normal move tells a run that moved the whole surface one way from noise removal, which moves
+// vertices both ways: a sphere scaled by 0.99 moved 0.01 against its (outward) normals, a plane lifted
+// by 0.1 moved 0.1 along them, and zero-mean jitter along the normals averages out.
+TEST(Denoise, MeanNormalMoveMeasuresAShiftOfTheWholeSurface) {
+  const Mesh sphere = test::make_sphere(4);
+  Mesh smaller = sphere;
+  for (auto& p : smaller.positions) p *= 0.99;
+  const Topology ts = build_topology(sphere);
+  FaceGeometry g;
+  compute_face_geometry(smaller.positions, smaller.faces, g, false);
+  EXPECT_NEAR(mean_normal_move(ts, g, sphere.positions, smaller.positions), -0.01, 1e-4);
+  EXPECT_LT(signed_volume(smaller), signed_volume(sphere));  // (the normals face out)
+
+  const Mesh plane = test::make_grid(20, 0.1);
+  Mesh lifted = plane, jittered = plane;
+  for (auto& p : lifted.positions) p.z() += 0.1;
+  test::jitter_z(jittered, 0.01, 7);
+  const Topology tp = build_topology(plane);
+  compute_face_geometry(lifted.positions, lifted.faces, g, false);
+  EXPECT_NEAR(mean_normal_move(tp, g, plane.positions, lifted.positions), 0.1 * g.normals[0].z(), 1e-12);
+  compute_face_geometry(jittered.positions, jittered.faces, g, false);
+  // (the RMS move is the jitter's 0.01; the mean is within a few of its standard errors, 0.01 / 21)
+  EXPECT_LT(std::abs(mean_normal_move(tp, g, plane.positions, jittered.positions)), 0.002);
+}

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <mutex>
 
@@ -326,4 +327,35 @@ TEST_F(PipelineTest, LongStagesWithoutProgressSayTheyAreStillRunning) {
   }
   EXPECT_TRUE(normals);
   EXPECT_TRUE(lines_of(0.0).empty());
+}
+
+// A result that shrank does not leave silently: the zippered cylinder under weak noise (see
+// AutoDenoise.AResultThatShrankIsReported) gets a warning naming the move and the volume change, and the
+// sidecar's decision has both numbers. A sphere under the same zero-mean noise gets no such warning. (The
+// fixture's sphere would: its "noise" moves a third of the vertices outwards only, so removing it moves
+// the surface inwards, which the measure, made for zero-mean scanner noise, reads as shrinkage.)
+TEST_F(PipelineTest, AResultThatShrankIsAWarning) {
+  Mesh m = test::make_zippered_cylinder();
+  NoiseOptions n;
+  n.level = 0.1;
+  add_noise(m, n);
+  write_mesh(m, path("cyl.ply"));
+  auto run = [&](const std::string& input) {
+    const std::string yaml = "pipeline:\n  - " + path(input) + "\n  - type: mesh.denoise\n    auto: true\n  - type: report\n    figures: false\n  - " +
+                             path("out.ply") + "\n";
+    return Pipeline::load(write("p.yaml", yaml), {}).run();
+  };
+  const PipelineResult shrank = run("cyl.ply");
+  const auto w = std::find_if(shrank.warnings.begin(), shrank.warnings.end(), [](const std::string& s) { return s.find("shrank") != std::string::npos; });
+  ASSERT_NE(w, shrank.warnings.end());
+  EXPECT_NE(w->find("volume changed by -"), std::string::npos) << *w;
+  const std::string json = read_file(report_paths(path("out.ply")).json);
+  EXPECT_NE(json.find("\"mean_normal_move\": -"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"volume_change\": -"), std::string::npos) << json;
+  EXPECT_NE(json.find("shrank"), std::string::npos);  // the warning is in the sidecar too
+  Mesh sphere_mesh = test::make_sphere(4);
+  add_noise(sphere_mesh, n);
+  write_mesh(sphere_mesh, path("sphere.ply"));
+  const PipelineResult sphere = run("sphere.ply");
+  for (const auto& s : sphere.warnings) EXPECT_EQ(s.find("on average"), std::string::npos) << s;
 }

@@ -324,6 +324,15 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     refresh_stored_normals(m);
   };
 
+  // How far the result moved the surface as a whole (AutoRules::shift_warning).
+  auto measure_shift = [&](const Mesh& m) {
+    FaceGeometry g;
+    compute_face_geometry(m.positions, m.faces, g, false);
+    r.mean_normal_move = mean_normal_move(topo, g, input, m.positions);
+    r.volume_change = closed && std::abs(input_volume) > 0.0 ? (enclosed_volume(m.positions, m.faces) - input_volume) / std::abs(input_volume) : 0.0;
+    r.shifted = rules.shift_warning > 0.0 && std::abs(r.mean_normal_move) > std::max(rules.shift_warning * r.noise, rules.shift_warning_edges * edge);
+  };
+
   // A mesh triangulated from scanned points has noise on every vertex (its cloud's isolated outliers were
   // removed before meshing): the isolated spikes it shows are its triangulation's slivers and folds, and
   // moving only them would leave the rest as noisy as it came (on single-view virtual scans of fandisk, noise
@@ -351,6 +360,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.check = verdict;
     r.options = o;
     unfold(mesh);
+    measure_shift(mesh);
     return r;
   }
 
@@ -496,6 +506,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     unfold(mesh);
   }
   r.reason = scan_note + r.reason;
+  measure_shift(mesh);
   return r;
 }
 

@@ -548,4 +548,16 @@ double normal_displacement(const Topology& topology, const FaceGeometry& geometr
   return s[1] > 0 ? std::sqrt(s[0] / s[1]) : 0.0;
 }
 
+double mean_normal_move(const Topology& topology, const FaceGeometry& geometry, const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
+  // (sum of area x signed move, sum of area)
+  const Eigen::Vector2d s = ordered_sum(static_cast<long>(to.size()), Eigen::Vector2d(0, 0), [&](long v) {
+    const auto u = static_cast<std::size_t>(v);
+    double area = 0.0;
+    for (const int* f = topology.vertex_faces.begin(u); f != topology.vertex_faces.end(u); ++f) area += geometry.areas[*f];
+    if (area <= 0.0) return Eigen::Vector2d(0, 0);
+    return Eigen::Vector2d(area * (to[u] - from[u]).dot(vertex_normal(topology, geometry, u)), area);
+  });
+  return s[1] > 0 ? s[0] / s[1] : 0.0;
+}
+
 }  // namespace scanmesh

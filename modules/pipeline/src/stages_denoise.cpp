@@ -93,8 +93,22 @@ struct DenoiseStage : Stage {
                         {"boundary_loops", static_cast<double>(a.run.boundary_loops)},
                         {"boundary_loops_stopped", static_cast<double>(a.run.boundary_loops_stopped)},
                         {"folds", static_cast<double>(a.unfold.folds)},
-                        {"folds_left", static_cast<double>(a.unfold.remaining)}});
+                        {"folds_left", static_cast<double>(a.unfold.remaining)},
+                        {"mean_normal_move", a.mean_normal_move},
+                        {"volume_change", a.volume_change}});
     warn_capped(a.run, m, ctx);
+    if (a.shifted) {
+      const double ratio = a.noise > 0.0 ? a.mean_normal_move / a.noise : 0.0;
+      char volume[96] = "";
+      if (a.volume_change != 0.0) std::snprintf(volume, sizeof volume, "; the enclosed volume changed by %+.2f%%", 100.0 * a.volume_change);
+      std::snprintf(buf, sizeof buf,
+                    "mesh.denoise: the surface moved %s by %.3g on average (%.2f x the noise estimate%s): it %s as a whole, where removing "
+                    "noise moves vertices both ways alike. Usual cause: long edges beside short ones (the fidelity term pulls a "
+                    "coarse curved patch towards its chords); with lambda 0 (no fidelity term) the volume holds",
+                    ratio < 0.0 ? "against its normals" : "along its normals", std::abs(a.mean_normal_move), std::abs(ratio), volume,
+                    a.volume_change < 0.0 ? "shrank" : a.volume_change > 0.0 ? "swelled" : "moved");
+      ctx.warnings.emplace_back(buf);
+    }
     if (a.check != "passed" && a.check != "not needed")
       ctx.warnings.push_back(a.run.iterations == 0
                                  ? "mesh.denoise: no iteration passed the result check (" + a.check +

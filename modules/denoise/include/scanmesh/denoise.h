@@ -203,4 +203,11 @@ double normal_displacement(const Topology& topology, const std::vector<Face>& fa
 double normal_displacement(const Topology& topology, const FaceGeometry& geometry_of_to, const std::vector<Vec3>& from,
                            const std::vector<Vec3>& to);
 
+/// Area-weighted mean (each vertex weighing a third of its faces' area) of the signed distances the
+/// vertices moved from `from` to `to` along the vertex normals of `to`. Removing zero-mean noise moves
+/// vertices both ways alike and leaves it near 0; a run that shrinks the surface (or swells it) moves
+/// them one way: on a closed mesh it is about the change of enclosed volume over the area.
+double mean_normal_move(const Topology& topology, const FaceGeometry& geometry_of_to, const std::vector<Vec3>& from,
+                        const std::vector<Vec3>& to);
+
 }  // namespace scanmesh
