@@ -77,6 +77,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
                                                             : na.trimmed_rms_jump;
   r.exact_plane_fraction = na.exact_plane_fraction;
   r.impulsive_share = na.isolated_outlier_share;
+  r.height_agreement = na.height_agreement;
   const double edge = na.mean_edge > 0.0 ? na.mean_edge : 1.0;
   char line[512];
 
@@ -337,6 +338,19 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // removed before meshing): the isolated spikes it shows are its triangulation's slivers and folds, and
   // moving only them would leave the rest as noisy as it came (on single-view virtual scans of fandisk, noise
   // 0.2-0.3: 20.9 and 27.9 degrees from the clean surface against 4.2 and 7.6 for the regular run).
+  if (rules.clean_agreement > 0.0 && na.height_agreement >= rules.clean_agreement && !is_given("iterations")) {
+    // Curvature makes neighbours' heights alike, noise makes them unrelated: a coarse smooth model's own
+    // shape read as noise would only be smoothed away (the clean spot, 1.98 degrees from itself after a run).
+    r.mode = "untouched";
+    std::snprintf(line, sizeof line,
+                  "neighbouring vertices agree on their heights over their one-rings (%.2f, limit %.2f; noise leaves them "
+                  "unrelated): a surface smooth at the scale of its edges, left as it is",
+                  na.height_agreement, rules.clean_agreement);
+    r.reason = line;
+    r.options.iterations = 0;
+    r.check = "not needed";
+    return r;
+  }
   const bool spikes = na.isolated_outlier_share > rules.impulsive_share;
   std::string scan_note;  // (prefixed to the reason the scanned mesh's run ends with)
   if (spikes && o.scanned) {

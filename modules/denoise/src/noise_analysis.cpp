@@ -10,15 +10,15 @@ namespace {
 // on the noisy meshes of the standard pairs (ratios 0.77 to 1.18 after calibration).
 constexpr double kCalibration = 0.9;
 
-}  // namespace
-
-std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
-                                 const std::vector<std::uint8_t>* excluded) {
+// Each interior vertex's signed height over the mean of its one-ring (`excluded` vertices left out), along
+// its normal; `valid` flags the vertices that have one.
+void vertex_heights(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry, const std::vector<std::uint8_t>* excluded,
+                    std::vector<double>& height, std::vector<std::uint8_t>& valid) {
   auto out = [&](int j) { return excluded && (*excluded)[static_cast<std::size_t>(j)]; };
   const std::vector<Vec3> normals = vertex_normals(topo, geometry);
   const auto nv = static_cast<long>(mesh.num_vertices());
-  std::vector<double> height(mesh.num_vertices(), 0.0);
-  std::vector<std::uint8_t> valid(mesh.num_vertices(), 0);
+  height.assign(mesh.num_vertices(), 0.0);
+  valid.assign(mesh.num_vertices(), 0);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
     const int n = topo.vertex_vertices.size(i);
@@ -32,6 +32,17 @@ std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const F
     height[i] = normals[i].dot(mesh.positions[i] - mean);
     valid[i] = 1;
   }
+}
+
+}  // namespace
+
+std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
+                                 const std::vector<std::uint8_t>* excluded) {
+  auto out = [&](int j) { return excluded && (*excluded)[static_cast<std::size_t>(j)]; };
+  const auto nv = static_cast<long>(mesh.num_vertices());
+  std::vector<double> height;
+  std::vector<std::uint8_t> valid;
+  vertex_heights(mesh, topo, geometry, excluded, height, valid);
   std::vector<double> jump(mesh.num_vertices(), -1.0);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
@@ -125,7 +136,34 @@ NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topo, const FaceGe
     isolated += alone ? 1 : 0;
   }
   a.isolated_outlier_share = static_cast<double>(isolated) / static_cast<double>(n);
+  a.height_agreement = height_agreement(mesh, topo, g);
   return a;
+}
+
+double height_agreement(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {
+  std::vector<double> height;
+  std::vector<std::uint8_t> valid;
+  vertex_heights(mesh, topo, g, nullptr, height, valid);
+  double mean = 0.0;
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < height.size(); ++v)
+    if (valid[v]) mean += height[v], ++n;
+  if (n == 0) return 0.0;
+  mean /= static_cast<double>(n);
+  // The regression of the neighbours' mean height on the vertex's own (both about the mean height),
+  // summed in vertex order.
+  double cross = 0.0, own = 0.0;
+  for (std::size_t v = 0; v < height.size(); ++v) {
+    if (!valid[v]) continue;
+    double sum = 0.0;
+    int k = 0;
+    for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w)
+      if (valid[*w]) sum += height[*w], ++k;
+    if (k == 0) continue;
+    cross += (height[v] - mean) * (sum / k - mean);
+    own += (height[v] - mean) * (height[v] - mean);
+  }
+  return own > 0.0 ? cross / own : 0.0;
 }
 
 NoiseAnalysis analyse_noise(const Mesh& mesh) {

@@ -74,7 +74,8 @@ struct DenoiseStage : Stage {
     decision_numbers = {{"noise_level", a.noise_level},
                         {"noise", a.noise},
                         {"exact_plane_fraction", a.exact_plane_fraction},
-                        {"isolated_outlier_share", a.impulsive_share}};
+                        {"isolated_outlier_share", a.impulsive_share},
+                        {"height_agreement", a.height_agreement}};
     // Shares the run did not measure (no probe ran, or its rule is off) are left out rather than shown as -1.
     for (const auto& [key, share] : {std::pair<const char*, double>{"soft_crease_share", a.crease_share},
                                      {"flat_edge_share", a.flat_share},

@@ -27,6 +27,9 @@ struct NoiseAnalysis {
   /// Share of vertices whose faces all have the same normal (to 1e-4): large for CAD tessellations and
   /// noise-free meshes, zero for anything carrying scanner noise.
   double exact_plane_fraction = 0.0;
+  /// height_agreement(): near 1 where neighbouring vertices' heights over their one-rings agree (a surface
+  /// smooth at the scale of its edges), near or below 0 where noise makes them unrelated.
+  double height_agreement = 0.0;
 };
 
 /// Measures `mesh` (whose topology and face geometry are given).
@@ -35,6 +38,13 @@ NoiseAnalysis analyse_noise(const Mesh& mesh);
 
 /// NoiseAnalysis::exact_plane_fraction alone (cheap: one pass over the vertices' faces).
 double exact_plane_fraction(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
+
+/// How far neighbouring vertices agree on their signed heights h over the mean of their one-rings (along
+/// the vertex normal): the slope of the regression of a vertex's neighbours' mean h on its own h, both
+/// taken about the mesh's mean h (interior vertices). Curvature gives neighbours alike heights (a smooth
+/// sphere: near 1); independent noise gives each vertex its own and pushes its neighbours' the other way
+/// (white noise on a plane: about -0.24). Deterministic (summed in vertex order).
+double height_agreement(const Mesh& mesh, const Topology& topology, const FaceGeometry& geometry);
 
 /// Per vertex: |height over the one-ring plane - neighbours' mean height| (mesh units); -1 where undefined
 /// (boundary, fewer than three neighbours, no normal). Vertices flagged in `excluded` count neither in
