@@ -293,6 +293,11 @@ TEST(AutoDenoise, ACleanSmoothMeshIsLeftAsItIs) {
   EXPECT_NE(b.mode, "untouched") << b.reason;
   EXPECT_GT(b.run.iterations, 0);
   EXPECT_LT(evaluate(n, &clean).msae_deg, 0.5 * evaluate(noisy(clean, 0.1), &clean).msae_deg);
+  // A mesh made from scanned points carries the scanner's noise however smooth it looks: not left alone.
+  DenoiseOptions scanned;
+  scanned.scanned = true;
+  Mesh s = clean;
+  EXPECT_NE(denoise_auto(s, scanned, {}, AutoRules{}).mode, "untouched");
   // ...and the rule is what leaves it: off, the clean sphere is moved.
   AutoRules off;
   off.clean_agreement = 0.0;

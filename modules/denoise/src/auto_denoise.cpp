@@ -338,9 +338,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // removed before meshing): the isolated spikes it shows are its triangulation's slivers and folds, and
   // moving only them would leave the rest as noisy as it came (on single-view virtual scans of fandisk, noise
   // 0.2-0.3: 20.9 and 27.9 degrees from the clean surface against 4.2 and 7.6 for the regular run).
-  if (rules.clean_agreement > 0.0 && na.height_agreement >= rules.clean_agreement && !is_given("iterations")) {
+  if (rules.clean_agreement > 0.0 && na.height_agreement >= rules.clean_agreement && !o.scanned && !is_given("iterations")) {
     // Curvature makes neighbours' heights alike, noise makes them unrelated: a coarse smooth model's own
     // shape read as noise would only be smoothed away (the clean spot, 1.98 degrees from itself after a run).
+    // Not a mesh made from scanned points, which carry the scanner's noise however smooth the surface
+    // looks: Poisson's meshes of sparse scans read above the limit, and leaving them as they came moved the
+    // main job's results both ways (docs/EXPERIMENTS.md).
     r.mode = "untouched";
     std::snprintf(line, sizeof line,
                   "neighbouring vertices agree on their heights over their one-rings (%.2f, limit %.2f; noise leaves them "

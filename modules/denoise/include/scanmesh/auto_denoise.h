@@ -152,7 +152,8 @@ struct AutoRules {
   /// A mesh whose height agreement (NoiseAnalysis::height_agreement) is at least this is left as it is:
   /// neighbouring vertices agree on their heights over their one-rings, as on a surface smooth at the
   /// scale of its edges, where the noise estimate reads curvature and denoising only takes shape away.
-  /// 0 = off. A round value above every noisy mesh measured, not fitted (docs/EXPERIMENTS.md, "Clean
+  /// Not for meshes made from scanned points (DenoiseOptions::scanned). 0 = off. A round value above every
+  /// noisy mesh measured, not fitted (docs/EXPERIMENTS.md, "Clean
   /// smooth meshes are left alone"): the corpus's 170 noisy pairs read at most 0.51, the 40 scan pairs
   /// 0.42, the main job's meshes of the real clouds 0.55; the clean spot, homer, rocker-arm, teapot,
   /// hemisphere and dragon 0.61-0.94 (their --auto results were 0.2-3.9 degrees from themselves).
