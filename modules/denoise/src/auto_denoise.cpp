@@ -334,10 +334,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.shifted = rules.shift_warning > 0.0 && std::abs(r.mean_normal_move) > std::max(rules.shift_warning * r.noise, rules.shift_warning_edges * edge);
   };
 
-  // A mesh triangulated from scanned points has noise on every vertex (its cloud's isolated outliers were
-  // removed before meshing): the isolated spikes it shows are its triangulation's slivers and folds, and
-  // moving only them would leave the rest as noisy as it came (on single-view virtual scans of fandisk, noise
-  // 0.2-0.3: 20.9 and 27.9 degrees from the clean surface against 4.2 and 7.6 for the regular run).
   if (rules.clean_agreement > 0.0 && na.height_agreement >= rules.clean_agreement && !o.scanned && !is_given("iterations")) {
     // Curvature makes neighbours' heights alike, noise makes them unrelated: a coarse smooth model's own
     // shape read as noise would only be smoothed away (the clean spot, 1.98 degrees from itself after a run).
@@ -354,6 +350,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.check = "not needed";
     return r;
   }
+  // A mesh triangulated from scanned points has noise on every vertex (its cloud's isolated outliers were
+  // removed before meshing): the isolated spikes it shows are its triangulation's slivers and folds, and
+  // moving only them would leave the rest as noisy as it came (on single-view virtual scans of fandisk, noise
+  // 0.2-0.3: 20.9 and 27.9 degrees from the clean surface against 4.2 and 7.6 for the regular run).
   const bool spikes = na.isolated_outlier_share > rules.impulsive_share;
   std::string scan_note;  // (prefixed to the reason the scanned mesh's run ends with)
   if (spikes && o.scanned) {

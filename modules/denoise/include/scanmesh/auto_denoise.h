@@ -153,17 +153,18 @@ struct AutoRules {
   /// neighbouring vertices agree on their heights over their one-rings, as on a surface smooth at the
   /// scale of its edges, where the noise estimate reads curvature and denoising only takes shape away.
   /// Not for meshes made from scanned points (DenoiseOptions::scanned). 0 = off. A round value above every
-  /// noisy mesh measured, not fitted (docs/EXPERIMENTS.md, "Clean
-  /// smooth meshes are left alone"): the corpus's 170 noisy pairs read at most 0.51, the 40 scan pairs
+  /// noisy mesh measured, not fitted: the corpus's 170 noisy pairs read at most 0.51, the 40 scan pairs
   /// 0.42, the main job's meshes of the real clouds 0.55; the clean spot, homer, rocker-arm, teapot,
-  /// hemisphere and dragon 0.61-0.94 (their --auto results were 0.2-3.9 degrees from themselves).
+  /// hemisphere and dragon 0.61-0.94 (their --auto results were 0.2-3.9 degrees from themselves;
+  /// docs/EXPERIMENTS.md, "Shrinkage is reported; clean smooth meshes; dense scans in the fit").
   double clean_agreement = 0.6;
   /// A result whose mean normal move (AutoReport::mean_normal_move) is larger than this x the noise
   /// estimate, either way, is reported as having moved the whole surface (shrunk or swollen) rather than
   /// removed noise, which moves vertices both ways alike: a warning, the result is kept. Half the noise: a
-  /// round value between the measurements below, not fitted. On the corpus (--auto, 170 pairs) the refined cylinder reads
-  /// -0.47 to -1.64 x the noise (volume -0.8% to -1.6%; under Gaussian noise 0.1 its distance to the clean
-  /// surface doubles), every other model -0.29 to +0.04 (docs/EXPERIMENTS.md, "Shrinkage is reported").
+  /// round value between the measurements below, not fitted. On the corpus (--auto, 170 pairs) the
+  /// refined cylinder reads -0.47 to -1.64 x the noise (volume -0.8% to -1.6%; under Gaussian noise 0.1
+  /// its distance to the clean surface doubles), every other model -0.29 to +0.04 (docs/EXPERIMENTS.md,
+  /// the same section).
   double shift_warning = 0.5;
   /// ...and than this x the mean edge length: a shift of a hundredth of an edge does not show at the
   /// mesh's own resolution (a clean mesh's noise estimate is near 0, so any move is many times it: the
