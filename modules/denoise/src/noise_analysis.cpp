@@ -34,16 +34,12 @@ void vertex_heights(const Mesh& mesh, const Topology& topo, const FaceGeometry& 
   }
 }
 
-}  // namespace
-
-std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
-                                 const std::vector<std::uint8_t>* excluded) {
+// The jumps (vertex_jumps) from the heights.
+std::vector<double> jumps_from_heights(const Topology& topo, const std::vector<double>& height, const std::vector<std::uint8_t>& valid,
+                                       const std::vector<std::uint8_t>* excluded) {
   auto out = [&](int j) { return excluded && (*excluded)[static_cast<std::size_t>(j)]; };
-  const auto nv = static_cast<long>(mesh.num_vertices());
-  std::vector<double> height;
-  std::vector<std::uint8_t> valid;
-  vertex_heights(mesh, topo, geometry, excluded, height, valid);
-  std::vector<double> jump(mesh.num_vertices(), -1.0);
+  const auto nv = static_cast<long>(height.size());
+  std::vector<double> jump(height.size(), -1.0);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nv; ++i) {
     if (!valid[i]) continue;
@@ -57,6 +53,47 @@ std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const F
     if (n >= 3) jump[i] = std::abs(height[i] - sum / n);
   }
   return jump;
+}
+
+// height_agreement() from the heights.
+double agreement_from_heights(const Topology& topo, const std::vector<double>& height, const std::vector<std::uint8_t>& valid) {
+  double mean = 0.0;
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < height.size(); ++v)
+    if (valid[v]) mean += height[v], ++n;
+  if (n == 0) return 0.0;
+  mean /= static_cast<double>(n);
+  // The regression of the neighbours' mean height on the vertex's own (both about the mean height),
+  // summed in vertex order.
+  double cross = 0.0, own = 0.0;
+  for (std::size_t v = 0; v < height.size(); ++v) {
+    if (!valid[v]) continue;
+    double sum = 0.0;
+    int k = 0;
+    for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w)
+      if (valid[*w]) sum += height[*w], ++k;
+    if (k == 0) continue;
+    cross += (height[v] - mean) * (sum / k - mean);
+    own += (height[v] - mean) * (height[v] - mean);
+  }
+  return own > 0.0 ? cross / own : 0.0;
+}
+
+}  // namespace
+
+std::vector<double> vertex_jumps(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
+                                 const std::vector<std::uint8_t>* excluded) {
+  std::vector<double> height;
+  std::vector<std::uint8_t> valid;
+  vertex_heights(mesh, topo, geometry, excluded, height, valid);
+  return jumps_from_heights(topo, height, valid, excluded);
+}
+
+double height_agreement(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {
+  std::vector<double> height;
+  std::vector<std::uint8_t> valid;
+  vertex_heights(mesh, topo, g, nullptr, height, valid);
+  return agreement_from_heights(topo, height, valid);
 }
 
 std::vector<std::uint8_t> outlier_vertices(const Mesh& mesh, const Topology& topo, const FaceGeometry& geometry,
@@ -109,11 +146,16 @@ NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topo, const FaceGe
   a.mean_edge = mean_edge_length(mesh, topo);
   a.exact_plane_fraction = exact_plane_fraction(mesh, topo, g);
 
-  const std::vector<double> jump = vertex_jumps(mesh, topo, g);
+  // (the heights once, for the jumps and the agreement)
+  std::vector<double> height;
+  std::vector<std::uint8_t> valid;
+  vertex_heights(mesh, topo, g, nullptr, height, valid);
+  const std::vector<double> jump = jumps_from_heights(topo, height, valid, nullptr);
   std::vector<double> sorted;
   for (double x : jump)
     if (x >= 0.0) sorted.push_back(x);
   if (sorted.empty() || !(a.mean_edge > 0.0)) return a;
+  a.height_agreement = agreement_from_heights(topo, height, valid);
   std::sort(sorted.begin(), sorted.end());
   const std::size_t n = sorted.size();
   a.median_jump = sorted[n / 2];
@@ -136,34 +178,7 @@ NoiseAnalysis analyse_noise(const Mesh& mesh, const Topology& topo, const FaceGe
     isolated += alone ? 1 : 0;
   }
   a.isolated_outlier_share = static_cast<double>(isolated) / static_cast<double>(n);
-  a.height_agreement = height_agreement(mesh, topo, g);
   return a;
-}
-
-double height_agreement(const Mesh& mesh, const Topology& topo, const FaceGeometry& g) {
-  std::vector<double> height;
-  std::vector<std::uint8_t> valid;
-  vertex_heights(mesh, topo, g, nullptr, height, valid);
-  double mean = 0.0;
-  std::size_t n = 0;
-  for (std::size_t v = 0; v < height.size(); ++v)
-    if (valid[v]) mean += height[v], ++n;
-  if (n == 0) return 0.0;
-  mean /= static_cast<double>(n);
-  // The regression of the neighbours' mean height on the vertex's own (both about the mean height),
-  // summed in vertex order.
-  double cross = 0.0, own = 0.0;
-  for (std::size_t v = 0; v < height.size(); ++v) {
-    if (!valid[v]) continue;
-    double sum = 0.0;
-    int k = 0;
-    for (const int* w = topo.vertex_vertices.begin(v); w != topo.vertex_vertices.end(v); ++w)
-      if (valid[*w]) sum += height[*w], ++k;
-    if (k == 0) continue;
-    cross += (height[v] - mean) * (sum / k - mean);
-    own += (height[v] - mean) * (height[v] - mean);
-  }
-  return own > 0.0 ? cross / own : 0.0;
 }
 
 NoiseAnalysis analyse_noise(const Mesh& mesh) {
