@@ -41,6 +41,8 @@
 //                                                goes on past its target while its soft creases are below
 //                                                this x their share at half its iterations and above the
 //                                                probe's crease limit (0 = off; default: the shipped value)
+//                    [--rows]                    list every pair's held-back replayed score ("hit"), not only
+//                                                those that miss (to compare two fits row by row)
 //                    [--peer-objective]          count wins against the peer in the objective as well (tried
 //                                                2026-12-04, not what ships; docs/EXPERIMENTS.md)
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
@@ -595,6 +597,7 @@ static int run(int argc, char** argv) {
   std::vector<std::string> files;
   int timing_runs = 3;  // the cost column: fastest of this many runs of --auto and of the plain run
   bool peer_objective = false;
+  bool all_rows = false;  // --rows: every pair's held-back replayed score, not only the misses
   Offered offered;
   std::string only;
   for (int i = table ? 3 : 2; i < argc; ++i) {
@@ -637,6 +640,10 @@ static int run(int argc, char** argv) {
     }
     if (std::strcmp(argv[i], "--peer-objective") == 0) {
       peer_objective = true;
+      continue;
+    }
+    if (std::strcmp(argv[i], "--rows") == 0) {
+      all_rows = true;
       continue;
     }
     files.emplace_back(argv[i]);
@@ -691,9 +698,10 @@ static int run(int argc, char** argv) {
     for (std::size_t i = 0; i < f.keys.size(); ++i) {
       if (f.model_of[i] != m) continue;
       const double x = f.msae[i * f.cands.size() + j];
-      if (x < f.defaults[i] && x <= f.noisy[i] && !f.more_flips[i * f.cands.size() + j]) continue;
+      const bool hit = x < f.defaults[i] && x <= f.noisy[i] && !f.more_flips[i * f.cands.size() + j];
+      if (hit && !all_rows) continue;
       const Outcome o = replay(pairs.at(f.keys[i]), f.cands[j], nullptr);
-      std::printf("  miss %-40s %-9s %3d its: %.2f / %ld flips (defaults %.2f, noisy %.2f / %ld)\n", f.keys[i].c_str(), o.mode, o.it, x, o.flips,
+      std::printf("  %s %-40s %-9s %3d its: %.2f / %ld flips (defaults %.2f, noisy %.2f / %ld)\n", hit ? "hit " : "miss", f.keys[i].c_str(), o.mode, o.it, x, o.flips,
                   f.defaults[i], f.noisy[i], f.noisy_flips[i]);
     }
   }
