@@ -8,7 +8,7 @@
 //                    [--sharp-lambdas a,b,..]    the feature-keeping run's fidelity weights offered (default:
 //                                                every one the grids hold curves for)
 //                    [--flat-growths a,b,..]     the flattening rule's growth limits offered (x noise level;
-//                                                0 = off; default 0,0.35); grids without the
+//                                                0 = off; default 0,0.5); grids without the
 //                                                flat-edge column (before 2026-12-04, night) replay it as off
 //                    [--flat-maxes a,b,..]       its limits on the share of flat edges at the probe (default
 //                                                0.4,0.45,0.5)
@@ -48,8 +48,9 @@
 //   scanmesh_auto_cv table [DATA_DIR] GRID.csv... the held-back table: every pair of the corpus denoised by the
 //                                                real --auto with the rules fitted without its model, next
 //                                                to the noisy input, the plain defaults and the peer;
-//                                                models absent from the grids (dragon-202k) are
-//                                                pure test models, with rules fitted on all the others;
+//                                                a model absent from the grids (the 269k Igea scan)
+//                                                takes its group's fold, or, without one, the rules
+//                                                fitted on all the others;
 //                                                pairs with more flipped faces than their input are
 //                                                listed with the counts also taken without the faces
 //                                                the clean mesh folds itself
@@ -303,8 +304,10 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
 struct Offered {
   std::vector<double> smooth_sigmas = {AutoRules{}.smooth_sigma};  // the wide kernels (grids must hold their curves)
   std::vector<double> sharp_lambdas;  // the feature-keeping run's fidelity weights (empty: all the grids hold)
-  // (0.25, 0.3 and 0.4 offered too until 2026-12-05: every fold took 0.35)
-  std::vector<double> flat_growths = {0.0, 0.35};  // the flattening rule's growth limits (0: off)
+  // (0.25, 0.3 and 0.4 offered too until 2026-12-05: every fold took 0.35. With the dense smooth models in
+  // the grids, 2026-12-06, 0.35-0.7 offered on the narrow lists: every fold but Igea's (0.4) took 0.5. Two
+  // values by default: each one more costs the full lists about 8 GB.)
+  std::vector<double> flat_growths = {0.0, 0.5};  // the flattening rule's growth limits (0: off)
   std::vector<double> flat_maxes = {0.4, 0.45, 0.5}, flat_strongs = {1.0, 0.03, 0.04};  // its other limits
   bool narrow = false;  // the dimensions outside the flattening rule cut to the values the 2026-12-05 folds took
   std::vector<double> lows = {0.0}, lowflats = {0.45};  // the replay-only low target (Candidate), 0: off

@@ -48,7 +48,8 @@ std::vector<Model> corpus_models(const fs::path& data) {
       {"homer.obj", "organic"},       {"cheburashka.obj", "organic"}, {"rocker-arm.obj", "mechanical"},
       {"beetle.obj", "mechanical"},   {"teapot.obj", "mechanical"}, {"woody.obj", "organic"},
       // A dense scan of a smooth statue (269k faces), denser at its own edge length than any other model;
-      // with its coarser versions below a test-only group (the grids skip it, docs/EXPERIMENTS.md, "Dense smooth scans").
+      // one group with its coarser versions below (the grids hold only those; docs/EXPERIMENTS.md, "Dense
+      // smooth scans" and "The dense scans in the fit").
       {"igea-tristrips.ply", "organic"},
   };
   for (const auto& [file, kind] : train)
