@@ -139,6 +139,19 @@ TEST_F(MeshIo, ObjPolygonsNegativeIndicesCrlfAndColours) {
   EXPECT_EQ(m.find_property("green")->values[1], 255.0);
 }
 
+TEST_F(MeshIo, FacesNamingAVertexTwiceAreKeptAndSaid) {
+  // Collapsed triangles stay (dropping them could open the surface), with one warning that counts them and
+  // names the first; a mesh without any gets no warning.
+  std::vector<std::string> warnings;
+  const Mesh m = read_mesh(write("c.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 0 3\n3 1 2 1\n3 0 1 3\n"), &warnings);
+  EXPECT_EQ(m.num_faces(), 4u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("c.off: 2 faces name a vertex twice (first: face 1, vertices 0 0 3)"), std::string::npos) << warnings[0];
+  warnings.clear();
+  read_mesh(write("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), &warnings);
+  EXPECT_TRUE(warnings.empty());
+}
+
 TEST_F(MeshIo, OffWithCommentsAndPolygons) {
   const Mesh m = read_mesh(write("p.off", "OFF\n# comment\n5 1 0\n0 0 0\n1 0 0\n1 1 0\n0.5 2 0\n0 1 0\n5 0 1 2 3 4\n"));
   EXPECT_EQ(m.num_faces(), 3u);

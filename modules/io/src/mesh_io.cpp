@@ -39,10 +39,25 @@ bool is_mesh_extension(const std::string& ext) {
 
 namespace {
 
-// What every mesh read passes: indices in range, finite coordinates, at least one face.
-Mesh checked(Mesh mesh, const std::string& path) {
+// What every mesh read passes: indices in range, finite coordinates, at least one face. A face that
+// names one vertex twice (a collapsed triangle, common in welded STL and in decimated meshes) is kept,
+// since dropping it could open the surface, but said: it has no area and no normal.
+Mesh checked(Mesh mesh, const std::string& path, std::vector<std::string>& warnings) {
   validate_mesh(mesh, "'" + path + "'");
   if (mesh.faces.empty()) throw InputError("'" + path + "': contains no faces");
+  std::size_t repeated = 0, first = 0;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const Face& t = mesh.faces[f];
+    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) continue;
+    if (repeated++ == 0) first = f;
+  }
+  if (repeated > 0) {
+    const Face& t = mesh.faces[first];
+    warnings.push_back(path + ": " + std::to_string(repeated) + (repeated == 1 ? " face names" : " faces name") +
+                       " a vertex twice (first: face " + std::to_string(first) + ", vertices " + std::to_string(t[0]) + " " +
+                       std::to_string(t[1]) + " " + std::to_string(t[2]) +
+                       "); kept as they are, without area or normal (the pipeline's mesh.cleanup removes them)");
+  }
   return mesh;
 }
 
@@ -58,9 +73,9 @@ Mesh read_mesh(const std::string& path, std::vector<std::string>* warnings) {
   if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > detail::kWholeFileLimit && !ec) {
     std::vector<std::string> local;
     std::vector<std::string>& w = warnings != nullptr ? *warnings : local;
-    if (ext == ".ply") return checked(detail::read_ply_file(path, w), path);
-    if (ext == ".stl") return checked(detail::read_stl_file(path, w), path);
-    return checked(ext == ".obj" ? detail::read_obj_file(path, w) : detail::read_off_file(path, w), path);
+    if (ext == ".ply") return checked(detail::read_ply_file(path, w), path, w);
+    if (ext == ".stl") return checked(detail::read_stl_file(path, w), path, w);
+    return checked(ext == ".obj" ? detail::read_obj_file(path, w) : detail::read_off_file(path, w), path, w);
   }
   return decode_mesh(read_file(path), path, warnings);
 }
@@ -76,7 +91,7 @@ Mesh decode_mesh(std::string_view data, const std::string& path, std::vector<std
   else if (ext == ".ply") mesh = detail::read_ply(data, path, w);
   else if (ext == ".stl") mesh = detail::read_stl(data, path, w);
   else throw InputError("'" + path + "': unknown mesh format '" + ext + "'; supported: .obj .off .ply .stl");
-  return checked(std::move(mesh), path);
+  return checked(std::move(mesh), path, w);
 }
 
 Mesh decode_ply_points(std::string_view data, const std::string& file, std::vector<std::string>* warnings, RangeGrid* grid) {
