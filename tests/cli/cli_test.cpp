@@ -244,6 +244,25 @@ TEST_F(Cli, TheReadmeOptionTablesAreTheSchema) {
       << "README.md's options tables differ from the schemas; regenerate them with build/bin/scanmesh options --markdown";
 }
 
+TEST_F(Cli, RunAndTheVerbsPrintTheSameWarnings) {
+  // A reader's warning reaches the terminal through `run` as through a verb, and the sidecar; -q hides it
+  // from the terminal only.
+  const std::string mesh = write("collapsed.off", "OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0.1\n0.5 0.5 0.2\n3 0 1 4\n3 1 3 4\n"
+                                                  "3 3 2 4\n3 2 2 4\n");
+  const std::string needle = "collapsed.off: 1 face names a vertex twice (first: face 3, vertices 2 2 4)";
+  const std::string config = std::string(SCANMESH_DATA_DIR) + "/../configs/denoise.yaml";
+  const Result p = run("run " + config + " --input " + mesh + " --output " + path("p.off"));
+  const Result v = run("denoise " + mesh + " " + path("v.off"));
+  const Result q = run("run " + config + " --input " + mesh + " --output " + path("q.off") + " -q");
+  ASSERT_EQ(p.code, 0) << p.err;
+  ASSERT_EQ(v.code, 0) << v.err;
+  ASSERT_EQ(q.code, 0) << q.err;
+  EXPECT_NE(p.err.find("warning: " + mesh + ": 1 face names"), std::string::npos) << p.err;
+  EXPECT_NE(v.err.find(needle), std::string::npos) << v.err;
+  EXPECT_EQ(q.err.find(needle), std::string::npos) << q.err;
+  EXPECT_NE(scanmesh::read_file(path("q.report.json")).find(needle), std::string::npos);
+}
+
 TEST_F(Cli, ACloudThatMeshesToNothingFailsAlikeInMeshAndRun) {
   const std::string cloud = write("six.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 3\n9 9 9\n");
   const Result m = run("mesh " + cloud + " " + path("m.ply"));
