@@ -359,3 +359,26 @@ TEST_F(PipelineTest, AResultThatShrankIsAWarning) {
   const PipelineResult sphere = run("sphere.ply");
   for (const auto& s : sphere.warnings) EXPECT_EQ(s.find("on average"), std::string::npos) << s;
 }
+
+TEST(ReportViews, FrameTheObjectsPiecesButNotOutliers) {
+  // A sphere (the main piece), a small sphere just beside it (a part a scan left apart) and one far away
+  // (an outlying fragment): the views frame the first two.
+  Mesh m = test::make_sphere(3);
+  const std::size_t main_vertices = m.num_vertices();
+  auto add_piece = [&m](const Vec3& at, double size) {
+    const Mesh s = test::make_sphere(1);
+    const auto base = static_cast<int>(m.num_vertices());
+    for (const Vec3& p : s.positions) m.positions.push_back(at + size * p);
+    for (const Face& f : s.faces) m.faces.push_back({f[0] + base, f[1] + base, f[2] + base});
+    return s.num_vertices();
+  };
+  const std::size_t near = add_piece(Vec3(1.3, 0, 0), 0.2);
+  add_piece(Vec3(40, 0, 0), 0.2);
+  const std::vector<int> framed = framed_vertices(m);
+  ASSERT_EQ(framed.size(), main_vertices + near);
+  for (int v : framed) EXPECT_LT(m.positions[v].x(), 2.0);
+  // A lone piece is framed whole; a vertex at infinity is left out.
+  m = test::make_sphere(2);
+  m.positions.push_back(Vec3(std::numeric_limits<double>::infinity(), 0, 0));
+  EXPECT_EQ(framed_vertices(m).size(), m.num_vertices() - 1);
+}

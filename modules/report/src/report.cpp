@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 
 #include "report_parts.h"
@@ -14,6 +15,46 @@
 #include "scanmesh/scan_fit.h"
 
 namespace scanmesh {
+
+std::vector<int> framed_vertices(const Mesh& m) {
+  const std::size_t nv = m.num_vertices();
+  std::vector<int> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Face& f : m.faces)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(f[0]), b = find(f[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<std::size_t> faces(nv, 0);
+  for (const Face& f : m.faces) ++faces[find(f[0])];
+  const int root = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
+  // Bounding boxes of the pieces with faces, by root.
+  const Vec3 none = Vec3::Constant(std::numeric_limits<double>::infinity());
+  std::vector<Vec3> lo(nv, none), hi(nv, -none);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const int r = find(static_cast<int>(v));
+    if (faces[r] == 0 || !m.positions[v].allFinite()) continue;
+    lo[r] = lo[r].cwiseMin(m.positions[v]);
+    hi[r] = hi[r].cwiseMax(m.positions[v]);
+  }
+  const double margin = 0.25 * (hi[root] - lo[root]).norm();
+  auto beside = [&](int r) {
+    if (r == root) return true;
+    if (faces[r] == 0) return false;
+    for (int k = 0; k < 3; ++k)
+      if (lo[r][k] > hi[root][k] + margin || hi[r][k] < lo[root][k] - margin) return false;
+    return true;
+  };
+  std::vector<int> out;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (m.positions[v].allFinite() && beside(find(static_cast<int>(v)))) out.push_back(static_cast<int>(v));
+  return out;
+}
+
 namespace {
 
 using detail::Camera;
@@ -34,34 +75,11 @@ std::string fmt(double v) {
   return b;
 }
 
-// Vertices of the piece with most faces (pieces joined through shared vertices), so outlying pieces do
-// not shrink the object to a dot.
-std::vector<int> main_piece_vertices(const Mesh& m) {
-  std::vector<int> parent(m.num_vertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Face& f : m.faces)
-    for (int k = 1; k < 3; ++k) {
-      const int a = find(f[0]), b = find(f[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<std::size_t> faces(m.num_vertices(), 0);
-  for (const Face& f : m.faces) ++faces[find(f[0])];
-  const int root = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
-  std::vector<int> out;
-  for (std::size_t v = 0; v < m.num_vertices(); ++v)
-    if (find(static_cast<int>(v)) == root && m.positions[v].allFinite()) out.push_back(static_cast<int>(v));
-  return out;
-}
-
 // From the sensor when the run knows it; else along the mean normal of a surface that mostly faces one way
-// (a single view), or a three-quarter view of a closed object. Framed on the main piece.
+// (a single view), or a three-quarter view of a closed object. Framed on the main piece and the pieces beside it.
 Camera choose_camera(const Mesh& m, const FaceGeometry& g, const std::optional<Vec3>& sensor, const Vec3& sensor_up) {
   Camera cam;
-  const std::vector<int> main = main_piece_vertices(m);
+  const std::vector<int> main = framed_vertices(m);
   Vec3 centre = Vec3::Zero();
   for (int v : main) centre += m.positions[v];
   centre /= static_cast<double>(std::max<std::size_t>(1, main.size()));
@@ -179,10 +197,10 @@ detail::ReportContent measure_and_render(const ReportInput& in, const ReportOpti
     before.mesh = in.before;
     before.title = "before";
     add("view_result.png", "Before and after", "The mesh as it entered the first stage that moved its vertices (left) and the result (right), " +
-                                              view_from + ", framed on the largest piece." + edges_note + flips_note,
+                                              view_from + ", framed on the largest piece and the pieces beside it." + edges_note + flips_note,
         detail::render_views({before, after}, cam, size, std::nullopt));
   } else {
-    add("view_result.png", "Result", "The mesh, " + view_from + ", framed on the largest piece." + edges_note + flips_note,
+    add("view_result.png", "Result", "The mesh, " + view_from + ", framed on the largest piece and the pieces beside it." + edges_note + flips_note,
         detail::render_views({after}, cam, size, std::nullopt));
   }
   if (moved) {

@@ -83,6 +83,12 @@ inline ReportPaths report_paths(const std::string& output_path) {
 /// the caller commits them). Returns the figure files.
 std::vector<std::string> write_report(const ReportInput& input, const ReportOptions& options, OutputTransaction& outputs);
 
+/// The vertices the report's views are framed on: the piece with most faces (pieces joined through shared
+/// vertices) and every piece whose bounding box comes within a quarter of that piece's diagonal of its
+/// own, so the parts of an object a scan leaves apart stay in the picture and outlying pieces do not
+/// shrink it to a dot. Vertices without a finite position are left out.
+std::vector<int> framed_vertices(const Mesh& mesh);
+
 /// Writes only a sidecar with status "failed" and the error (used when a run stops on an error).
 void write_failure_sidecar(const ReportInput& input, const std::string& error);
 
