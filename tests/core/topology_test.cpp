@@ -217,3 +217,14 @@ TEST(Parallel, AnOrderedSumHasTheSameBitsForEveryThreadCount) {
   }
   EXPECT_EQ(scanmesh::ordered_sum(0, 0.0, term), 0.0);
 }
+
+TEST(Topology, VertexPiecesAreLabelledByTheirSmallestVertex) {
+  // Faces 0-1-2 and 2-3-4 meet at vertex 2 (one piece through a shared vertex only), 5-6-7 stands alone,
+  // vertex 8 is used by no face; the labels agree with count_components.
+  Mesh m;
+  m.positions.assign(9, Vec3::Zero());
+  m.faces = {{4, 3, 2}, {7, 6, 5}, {2, 1, 0}};
+  const std::vector<int> piece = vertex_pieces(m);
+  EXPECT_EQ(piece, (std::vector<int>{0, 0, 0, 0, 0, 5, 5, 5, 8}));
+  EXPECT_EQ(count_components(m, build_topology(m)), 2u);
+}

@@ -232,4 +232,21 @@ std::size_t count_components(const Mesh& mesh, const Topology& topology) {
   return components;
 }
 
+std::vector<int> vertex_pieces(const Mesh& mesh) {
+  std::vector<int> parent(mesh.num_vertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  // Linking the larger root under the smaller keeps every root the smallest index of its piece.
+  for (const Face& f : mesh.faces)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(f[0]), b = find(f[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = find(static_cast<int>(v));
+  return parent;
+}
+
 }  // namespace scanmesh

@@ -21,21 +21,11 @@ namespace {
 
 // Piece label of every face (pieces joined through shared vertices), labels 0.. in order of first face.
 std::vector<int> face_pieces(const Mesh& mesh, std::size_t& count) {
-  std::vector<int> parent(mesh.num_vertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Face& f : mesh.faces)
-    for (int k = 1; k < 3; ++k) {
-      const int a = find(f[0]), b = find(f[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+  const std::vector<int> piece = vertex_pieces(mesh);
   std::vector<int> label(mesh.num_vertices(), -1), out(mesh.num_faces());
   count = 0;
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    const int root = find(mesh.faces[f][0]);
+    const int root = piece[mesh.faces[f][0]];
     if (label[root] < 0) label[root] = static_cast<int>(count++);
     out[f] = label[root];
   }

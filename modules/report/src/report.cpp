@@ -6,37 +6,27 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <numeric>
 
 #include "report_parts.h"
 #include "scanmesh/atomic_file.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/geometry.h"
 #include "scanmesh/scan_fit.h"
+#include "scanmesh/topology.h"
 
 namespace scanmesh {
 
 std::vector<int> framed_vertices(const Mesh& m) {
   const std::size_t nv = m.num_vertices();
-  std::vector<int> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Face& f : m.faces)
-    for (int k = 1; k < 3; ++k) {
-      const int a = find(f[0]), b = find(f[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+  const std::vector<int> piece = vertex_pieces(m);
   std::vector<std::size_t> faces(nv, 0);
-  for (const Face& f : m.faces) ++faces[find(f[0])];
+  for (const Face& f : m.faces) ++faces[piece[f[0]]];
   const int root = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
   // Bounding boxes of the pieces with faces, by root.
   const Vec3 none = Vec3::Constant(std::numeric_limits<double>::infinity());
   std::vector<Vec3> lo(nv, none), hi(nv, -none);
   for (std::size_t v = 0; v < nv; ++v) {
-    const int r = find(static_cast<int>(v));
+    const int r = piece[v];
     if (faces[r] == 0 || !m.positions[v].allFinite()) continue;
     lo[r] = lo[r].cwiseMin(m.positions[v]);
     hi[r] = hi[r].cwiseMax(m.positions[v]);
@@ -51,7 +41,7 @@ std::vector<int> framed_vertices(const Mesh& m) {
   };
   std::vector<int> out;
   for (std::size_t v = 0; v < nv; ++v)
-    if (m.positions[v].allFinite() && beside(find(static_cast<int>(v)))) out.push_back(static_cast<int>(v));
+    if (m.positions[v].allFinite() && beside(piece[v])) out.push_back(static_cast<int>(v));
   return out;
 }
 

@@ -49,4 +49,8 @@ Topology build_topology(const Mesh& mesh, bool with_face_faces = true);
 /// Number of connected components (through shared vertices) among vertices used by faces.
 std::size_t count_components(const Mesh& mesh, const Topology& topology);
 
+/// Per vertex, the smallest vertex index of its piece (pieces joined through the vertices faces share;
+/// a vertex no face uses is a piece of its own). No topology needed: one union-find pass over the faces.
+std::vector<int> vertex_pieces(const Mesh& mesh);
+
 }  // namespace scanmesh
