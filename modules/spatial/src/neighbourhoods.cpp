@@ -113,6 +113,8 @@ void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbo
             for (std::size_t i = first; i < last; ++i) search_one(i);
             continue;
           }
+          // In index order, every row below comes out sorted: one sort per group instead of one per point.
+          std::sort(candidates.begin(), candidates.end());
           cx.resize(candidates.size()), cy.resize(candidates.size()), cz.resize(candidates.size());
           for (std::size_t k = 0; k < candidates.size(); ++k) {
             const Vec3& q = points[candidates[k]];
@@ -141,7 +143,6 @@ void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbo
               const std::size_t j = candidates[static_cast<std::size_t>(hit[h])];
               if ((points[j] - p).squaredNorm() <= r2) row.push_back(static_cast<int>(j));
             }
-            std::sort(row.begin(), row.end());
             if (max_neighbours > 0 && near > static_cast<std::size_t>(max_neighbours)) search_one(i);
           }
         }
