@@ -105,6 +105,24 @@ TEST_F(PipelineTest, RunsWritesAReportAndMatchesTheApi) {
   EXPECT_EQ(read_file(path("api.ply")), read_file(path("out.ply")));
 }
 
+// A file read twice (the input, then the report's reference) warns once, on the terminal and in the sidecar.
+TEST_F(PipelineTest, AWarningIsGivenOnce) {
+  std::string obj;
+  const Mesh sphere = test::make_sphere(2);
+  for (const Vec3& p : sphere.positions) obj += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\nvt 0 0\n";
+  for (const Face& f : sphere.faces) obj += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n";
+  const std::string in = write("uv.obj", obj);
+  const std::string yaml = "pipeline:\n  - " + in + "\n  - type: mesh.denoise\n    iterations: 2\n  - type: report\n    reference: " + in +
+                           "\n  - " + path("out.ply") + "\n";
+  const PipelineResult r = Pipeline::load(write("p.yaml", yaml), {}).run();
+  const auto about_uv = std::count_if(r.warnings.begin(), r.warnings.end(), [](const std::string& w) { return w.find("(vt/vn)") != std::string::npos; });
+  EXPECT_EQ(about_uv, 1);
+  const std::string json = read_file(report_paths(path("out.ply")).json);
+  const std::size_t first = json.find("(vt/vn)");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(json.find("(vt/vn)", first + 1), std::string::npos);
+}
+
 // What --auto measured and chose is in the sidecar as named values and in the HTML page, and matches the
 // API's AutoReport for the same mesh.
 TEST_F(PipelineTest, TheAutoDecisionIsInTheSidecarAndThePage) {

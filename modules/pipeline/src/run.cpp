@@ -2,6 +2,7 @@
 // the end (or, on failure, none and a sidecar saying why).
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -22,6 +23,19 @@ namespace scanmesh {
 
 using detail::Data;
 using detail::Stage;
+
+namespace {
+
+// The run's warnings once each, in the order first given: a file read twice (a pipeline's input that is
+// also its report's reference) says the same thing twice.
+std::vector<std::string> once_each(const std::vector<std::string>& warnings) {
+  std::vector<std::string> out;
+  for (const auto& w : warnings)
+    if (std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+  return out;
+}
+
+}  // namespace
 
 PipelineResult Pipeline::run() {
   const auto t0 = std::chrono::steady_clock::now();
@@ -127,12 +141,12 @@ PipelineResult Pipeline::run() {
     report.status = ctx.problems.empty() ? "ok" : "degraded";
     report.problems = ctx.problems;
     report.seed = data.seed;
-    report.warnings = ctx.warnings;
+    report.warnings = once_each(ctx.warnings);
     if (report_stage) result.report_files = report_stage->write_report(report, data, ctx);
     outputs.commit();
   } catch (const std::exception& e) {
     if (report_stage && !impl_->output.empty()) {
-      report.warnings = ctx.warnings;
+      report.warnings = once_each(ctx.warnings);
       try {
         report_stage->write_failure(report, e.what());
       } catch (...) {
@@ -140,7 +154,7 @@ PipelineResult Pipeline::run() {
     }
     throw;
   }
-  result.warnings = ctx.warnings;
+  result.warnings = once_each(ctx.warnings);
   result.status = ctx.problems.empty() ? "ok" : "degraded";
   result.problems = ctx.problems;
   if (data.mesh) {
