@@ -18,30 +18,39 @@ namespace scanmesh {
 
 std::vector<int> framed_vertices(const Mesh& m) {
   const std::size_t nv = m.num_vertices();
-  const std::vector<int> piece = vertex_pieces(m);
-  std::vector<std::size_t> faces(nv, 0);
-  for (const Face& f : m.faces) ++faces[piece[f[0]]];
-  const int root = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
-  // Bounding boxes of the pieces with faces, by root.
-  const Vec3 none = Vec3::Constant(std::numeric_limits<double>::infinity());
-  std::vector<Vec3> lo(nv, none), hi(nv, -none);
-  for (std::size_t v = 0; v < nv; ++v) {
-    const int r = piece[v];
-    if (faces[r] == 0 || !m.positions[v].allFinite()) continue;
-    lo[r] = lo[r].cwiseMin(m.positions[v]);
-    hi[r] = hi[r].cwiseMax(m.positions[v]);
+  // Pieces with faces numbered 0.. (a mesh has a few; per-vertex boxes would cost 48 bytes a vertex).
+  const std::vector<int> root = vertex_pieces(m);
+  std::vector<int> label(nv, -1);
+  std::vector<std::size_t> faces;
+  for (const Face& f : m.faces) {
+    int& l = label[root[f[0]]];
+    if (l < 0) {
+      l = static_cast<int>(faces.size());
+      faces.push_back(0);
+    }
+    ++faces[static_cast<std::size_t>(l)];
   }
-  const double margin = 0.25 * (hi[root] - lo[root]).norm();
-  auto beside = [&](int r) {
-    if (r == root) return true;
-    if (faces[r] == 0) return false;
+  auto piece = [&](std::size_t v) { return label[root[v]]; };  // -1: a vertex no face uses
+  const Vec3 none = Vec3::Constant(std::numeric_limits<double>::infinity());
+  std::vector<Vec3> lo(faces.size(), none), hi(faces.size(), -none);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const int p = piece(v);
+    if (p < 0 || !m.positions[v].allFinite()) continue;
+    lo[p] = lo[p].cwiseMin(m.positions[v]);
+    hi[p] = hi[p].cwiseMax(m.positions[v]);
+  }
+  std::vector<int> out;
+  if (faces.empty()) return out;
+  const auto main = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
+  const double margin = 0.25 * (hi[main] - lo[main]).norm();
+  auto beside = [&](int p) {
+    if (p < 0) return false;
     for (int k = 0; k < 3; ++k)
-      if (lo[r][k] > hi[root][k] + margin || hi[r][k] < lo[root][k] - margin) return false;
+      if (lo[p][k] > hi[main][k] + margin || hi[p][k] < lo[main][k] - margin) return false;
     return true;
   };
-  std::vector<int> out;
   for (std::size_t v = 0; v < nv; ++v)
-    if (m.positions[v].allFinite() && beside(piece[v])) out.push_back(static_cast<int>(v));
+    if (m.positions[v].allFinite() && beside(piece(v))) out.push_back(static_cast<int>(v));
   return out;
 }
 
