@@ -70,9 +70,10 @@ int run_pipeline(const std::vector<std::string>& args) {
   const PipelineResult r = pipeline.run();
   // The stages' warnings (also in the sidecar); the scan-fit problems among them are printed below, also
   // under --quiet.
-  if (!quiet)
-    for (const auto& w : r.warnings)
-      if (w.rfind("degraded: ", 0) != 0) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  std::vector<std::string> warnings;
+  for (const auto& w : r.warnings)
+    if (w.rfind("degraded: ", 0) != 0) warnings.push_back(w);
+  print_warnings(warnings, quiet);
   if (r.status != "ok") {
     for (const auto& p : r.problems) std::fprintf(stderr, "degraded: %s\n", p.c_str());
     if (vm["strict"].as<bool>()) {

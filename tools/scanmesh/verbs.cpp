@@ -214,8 +214,7 @@ int run_verb(const std::string& name, const std::vector<std::string>& args) {
   }
   Pipeline pipeline = Pipeline::build(specs, po);
   const PipelineResult r = pipeline.run();
-  if (!quiet)
-    for (const auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  print_warnings(r.warnings, quiet);
   if (r.status != "ok" && strict) {
     std::fprintf(stderr, "scanmesh %s: error: the result is %s (--strict); written to %s\n", name.c_str(), r.status.c_str(), r.output.c_str());
     return kBadInput;
