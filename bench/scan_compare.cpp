@@ -77,6 +77,7 @@ int run(int argc, char** argv) {
     const auto t2 = std::chrono::steady_clock::now();
     DenoiseOptions scanned;  // as the main job runs it on the meshes it makes
     scanned.scanned = true;
+    scanned.vertices_are_points = true;  // greedy projection's mesh: its vertices are the points
     const AutoReport decided = denoise_auto(mesh, scanned);
     char label[64];
     std::snprintf(label, sizeof label, "+ --auto (%s, %d its)", decided.mode.c_str(), decided.run.iterations);

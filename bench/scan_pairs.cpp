@@ -95,6 +95,7 @@ static int run(int argc, char** argv) {
     Mesh a = noisy;
     DenoiseOptions scanned;  // as the main job runs it on the meshes it makes
     scanned.scanned = true;
+    scanned.vertices_are_points = true;  // greedy projection's mesh: its vertices are the points
     const AutoReport r = denoise_auto(a, scanned);
     Mesh b = noisy;
     bench::bilaplacian_smooth(b, bench::kBilaplacianIterations);

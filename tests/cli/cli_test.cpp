@@ -167,8 +167,9 @@ TEST_F(Cli, PipelineMatchesTheSubcommandsAndWritesAReport) {
   Result r = run("run " + config + " --input " + scan + " --output " + path("p.ply") + " -q");
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_EQ(run("mesh " + scan + " " + path("m.ply") + " -q").code, 0);
-  // The main job marks the meshes it makes as scanned (mesh.denoise's `scanned`).
-  ASSERT_EQ(run("denoise " + path("m.ply") + " " + path("d.ply") + " --auto --scanned -q").code, 0);
+  // The main job marks the meshes it makes as scanned (mesh.denoise's `scanned`), and greedy projection's,
+  // whose vertices are the points, as such (`vertices_are_points`).
+  ASSERT_EQ(run("denoise " + path("m.ply") + " " + path("d.ply") + " --auto --scanned --vertices-are-points -q").code, 0);
   EXPECT_EQ(scanmesh::read_file(path("p.ply")), scanmesh::read_file(path("d.ply")));
   EXPECT_NE(scanmesh::read_file(path("p.report.json")).find("\"status\": \"ok\""), std::string::npos);
   EXPECT_TRUE(fs::exists(path("p.report.html")));

@@ -289,20 +289,30 @@ TEST_F(PipelineTest, AMeshMadeFromACloudIsDenoisedAsAScannedMesh) {
   for (int j = 0; j < 30; ++j)
     for (int i = 0; i < 30; ++i) xyz += std::to_string(i * 0.01) + " " + std::to_string(j * 0.01) + " " + std::to_string(0.001 * ((i * 7 + j * 3) % 5 - 2)) + "\n";
   write("c.xyz", xyz);
-  auto scanned_in_sidecar = [&](const std::string& denoise_keys, const std::string& before_denoise = "") {
-    const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.normals\n  - type: mesh.auto\n  - type: mesh.cleanup\n" +
+  // "scanned/vertices_are_points" as the sidecar gives them.
+  auto scanned_in_sidecar = [&](const std::string& denoise_keys, const std::string& before_denoise = "",
+                                const std::string& method = "mesh.gp3") {
+    const std::string yaml = "pipeline:\n  - " + path("c.xyz") + "\n  - type: cloud.normals\n  - type: " + method + "\n  - type: mesh.cleanup\n" +
                              before_denoise + "  - type: mesh.denoise\n    auto: true\n" + denoise_keys + "  - type: report\n    figures: false\n  - " +
                              path("out.ply") + "\n";
     Pipeline::load(write("p.yaml", yaml), {}).run();
     const std::string json = read_file(report_paths(path("out.ply")).json);
-    if (json.find("\"scanned\": \"true\"") != std::string::npos) return std::string("true");
-    if (json.find("\"scanned\": \"false\"") != std::string::npos) return std::string("false");
-    return json;
+    std::string flags;
+    const std::size_t decision = json.find("\"decision\"", json.find("\"mesh.denoise\""));
+    for (const char* key : {"scanned", "vertices_are_points"}) {
+      const std::string k = std::string("\"") + key + "\": \"";
+      const std::size_t at = json.find(k, decision);
+      if (at == std::string::npos) return json;
+      flags += (flags.empty() ? "" : "/") + json.substr(at + k.size(), json.find('"', at + k.size()) - at - k.size());
+    }
+    return flags;
   };
-  EXPECT_EQ(scanned_in_sidecar(""), "true");
-  EXPECT_EQ(scanned_in_sidecar("    scanned: false\n"), "false");
+  EXPECT_EQ(scanned_in_sidecar(""), "true/true");  // greedy projection: the points are the vertices
+  EXPECT_EQ(scanned_in_sidecar("    scanned: false\n    vertices_are_points: false\n"), "false/false");
+  // Poisson's vertices are a surface fitted to the points: scanned, but its triangles are its own.
+  EXPECT_EQ(scanned_in_sidecar("", "", "mesh.poisson"), "true/false");
   // Synthetic noise added after meshing is not the scanner's: impulsive noise must stay possible.
-  EXPECT_EQ(scanned_in_sidecar("", "  - type: mesh.noise\n    kind: impulsive\n"), "false");
+  EXPECT_EQ(scanned_in_sidecar("", "  - type: mesh.noise\n    kind: impulsive\n"), "false/false");
   // Without auto the option changes nothing, and the run says so.
   const std::string plain = "pipeline:\n  - " + path("in.ply") + "\n  - type: mesh.denoise\n    iterations: 2\n    scanned: true\n  - " + path("p.ply") + "\n";
   const PipelineResult r = Pipeline::load(write("plain.yaml", plain), {}).run();

@@ -397,7 +397,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // are real (CAD parts, buildings) or noise it locked in (organic shapes).
   DenoiseOptions sharp = o, smooth = o;
   if (!is_given("sigma_s")) sharp.sigma_s = rules.sharp_sigma, smooth.sigma_s = rules.smooth_sigma;
-  if (!is_given("lambda")) sharp.lambda = rules.sharp_lambda, smooth.lambda = rules.smooth_lambda;
+  if (!is_given("lambda")) {
+    sharp.lambda = rules.sharp_lambda, smooth.lambda = rules.smooth_lambda;
+    if (o.vertices_are_points && rules.scanned_lambda_level > 0.0) {
+      // A scan's triangulation under weak noise: evening out its triangles costs more than the noise.
+      const double x = std::min(1.0, na.level / rules.scanned_lambda_level);
+      sharp.lambda *= x * x, smooth.lambda *= x * x;
+    }
+  }
   sharp.iterations = smooth.iterations = cap;
   if (!is_given("target_displacement") && !is_given("iterations")) {
     sharp.target_displacement = rules.sharp_target * r.noise / edge;

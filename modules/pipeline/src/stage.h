@@ -40,6 +40,9 @@ struct Data {
   /// vertex carries the scanner's noise, and the cloud's outliers were removed before meshing
   /// (DenoiseOptions::scanned).
   bool scanned_mesh = false;
+  /// ...and its vertices are the scanned points (greedy projection, organized meshing; not Poisson):
+  /// DenoiseOptions::vertices_are_points.
+  bool mesh_keeps_points = false;
 };
 
 /// What every stage of one run shares.

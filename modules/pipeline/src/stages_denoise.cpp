@@ -41,8 +41,9 @@ struct DenoiseStage : Stage {
     };
     char buf[640];
     if (!o.automatic) {
-      if (o.scanned)
-        ctx.warnings.emplace_back("mesh.denoise: scanned only changes what auto chooses (no impulsive mode); without auto it has no effect");
+      if (o.scanned || o.vertices_are_points)
+        ctx.warnings.emplace_back(std::string("mesh.denoise: ") + (o.scanned ? "scanned" : "vertices_are_points") +
+                                  " only changes what auto chooses; without auto it has no effect");
       const DenoiseReport r = denoise(m, o, report_progress);
       if (r.exact_plane_fraction >= 0.1 && o.iterations > 0) {
         std::snprintf(buf, sizeof buf,
@@ -60,6 +61,8 @@ struct DenoiseStage : Stage {
     // A mesh this pipeline triangulated from a cloud is a scanned mesh unless the configuration says otherwise.
     DenoiseOptions run_options = o;
     if (d.scanned_mesh && std::find(given.begin(), given.end(), "scanned") == given.end()) run_options.scanned = true;
+    if (d.scanned_mesh && d.mesh_keeps_points && std::find(given.begin(), given.end(), "vertices_are_points") == given.end())
+      run_options.vertices_are_points = true;
     const AutoReport a = denoise_auto(m, run_options, given, {}, report_progress);
     std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iteration%s (%s), radius factor %.3g; check %s",
                   a.noise_level, a.mode.c_str(), a.reason.c_str(), a.options.sigma_s, a.options.lambda, a.run.iterations,
@@ -70,7 +73,8 @@ struct DenoiseStage : Stage {
       details += buf;
     }
     decision_text = {{"mode", a.mode}, {"reason", a.reason}, {"stop_reason", a.run.stop_reason}, {"check", a.check},
-                     {"scanned", run_options.scanned ? "true" : "false"}};
+                     {"scanned", run_options.scanned ? "true" : "false"},
+                     {"vertices_are_points", run_options.vertices_are_points ? "true" : "false"}};
     decision_numbers = {{"noise_level", a.noise_level},
                         {"noise", a.noise},
                         {"exact_plane_fraction", a.exact_plane_fraction},

@@ -37,6 +37,7 @@ struct MeshStage : Stage {
     meshed.from_grid = decision.method == MeshMethod::organized;
     d.meshed = std::move(meshed);
     d.scanned_mesh = true;
+    d.mesh_keeps_points = decision.method != MeshMethod::poisson;
     details = decision.reason;
     decision_text = {{"method", method_name(decision.method)}, {"reason", decision.reason}};
     decision_numbers = decision.numbers;

@@ -51,6 +51,7 @@ struct DenoiseOptions {
   double outlier_jump = 0.0;
   bool outlier_peaks = false;
   bool scanned = false;
+  bool vertices_are_points = false;
 
   static const Schema<DenoiseOptions>& schema() {
     using O = DenoiseOptions;
@@ -111,7 +112,12 @@ struct DenoiseOptions {
                   "The mesh was triangulated from scanned points, so every vertex carries the scanner's noise: auto does "
                   "not take isolated spikes for impulsive noise (a triangulation's slivers read as such, and moving only "
                   "them would leave the rest noisy), and its last step also undoes folds on the triangulation's own "
-                  "slivers. The main job sets it for the meshes it makes.");
+                  "slivers. The main job sets it for the meshes it makes.")
+            .flag("vertices_are_points", &O::vertices_are_points,
+                  "The mesh's vertices are the scanned points themselves (greedy projection, organized meshing), not a "
+                  "surface fitted to them (Poisson): auto lowers the fidelity weight lambda under weak noise, where "
+                  "evening out such an irregular triangulation moves its vertices off the surface more than the noise "
+                  "had. The main job sets it when its mesh keeps the points.");
     return s;
   }
 };
