@@ -400,9 +400,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   if (!is_given("lambda")) {
     sharp.lambda = rules.sharp_lambda, smooth.lambda = rules.smooth_lambda;
     if (o.vertices_are_points && rules.scanned_lambda_level > 0.0) {
-      // A scan's triangulation under weak noise: evening out its triangles costs more than the noise.
+      // A scan's triangulation under weak noise: evening out its triangles costs more than the noise. The
+      // feature-keeping run keeps its weight: the sharp/smooth decision was fitted on its creases.
       const double x = std::min(1.0, na.level / rules.scanned_lambda_level);
-      sharp.lambda *= x * x, smooth.lambda *= x * x;
+      smooth.lambda *= x * x;
     }
   }
   sharp.iterations = smooth.iterations = cap;
