@@ -115,9 +115,9 @@ struct DenoiseOptions {
                   "slivers. The main job sets it for the meshes it makes.")
             .flag("vertices_are_points", &O::vertices_are_points,
                   "The mesh's vertices are the scanned points themselves (greedy projection, organized meshing), not a "
-                  "surface fitted to them (Poisson): auto lowers the fidelity weight lambda under weak noise, where "
-                  "evening out such an irregular triangulation moves its vertices off the surface more than the noise "
-                  "had. The main job sets it when its mesh keeps the points.");
+                  "surface fitted to them (Poisson): auto lowers the wide kernel's fidelity weight lambda under weak "
+                  "noise, where evening out such an irregular triangulation moves its vertices off the surface more "
+                  "than the noise had. The main job sets it when its mesh keeps the points.");
     return s;
   }
 };
