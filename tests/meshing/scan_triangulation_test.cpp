@@ -15,16 +15,22 @@ using namespace scanmesh;
 
 namespace {
 
+// `views` views of `width` x `height` pixels, depth noise `noise` (x the model's mean edge).
+VirtualScanOptions scan_options(int views, int width, int height, double noise) {
+  VirtualScanOptions vo;
+  vo.views = views;
+  vo.width = width;
+  vo.height = height;
+  vo.noise = noise;
+  return vo;
+}
+
 // A smooth model with relief: the 5k-face unit sphere, bumps of 5% of its radius.
 Mesh bumpy_sphere() { return test::make_bumpy_sphere(4); }
 
 // A dense scan of it under strong depth noise: six views of 160 x 120.
 void sphere_scan_pair(Mesh& clean, Mesh& noisy) {
-  VirtualScanOptions vo;
-  vo.views = 6;
-  vo.width = 160;
-  vo.height = 120;
-  vo.noise = 0.4;
+  const VirtualScanOptions vo = scan_options(6, 160, 120, 0.4);
   ASSERT_TRUE(bench::make_scan_pair(bumpy_sphere(), vo, clean, noisy));
 }
 
@@ -65,11 +71,7 @@ TEST(ScanPairs, TheWideKernelGoesOnWhileTheCreasesOfAScannedTriangulationFall) {
 // noise on meshes whose vertices are the points, the result ends closer to the clean mesh. The weight of
 // the feature-keeping run, on which the sharp/smooth decision was fitted, is not touched.
 TEST(ScanPairs, ASparseScanUnderWeakNoiseIsNotEvenedOutOffItsSurface) {
-  VirtualScanOptions vo;
-  vo.views = 8;
-  vo.width = 64;
-  vo.height = 48;
-  vo.noise = 0.1;
+  const VirtualScanOptions vo = scan_options(8, 64, 48, 0.1);
   Mesh clean, noisy;
   ASSERT_TRUE(bench::make_scan_pair(bumpy_sphere(), vo, clean, noisy));
   DenoiseOptions points;
@@ -103,12 +105,7 @@ Mesh ball_on_a_plane() {
 
 // mesh.auto on a scan of it from `views` views, normals as the main job estimates them.
 MeshingDecision mesh_scan_of_ball_on_a_plane(int views) {
-  VirtualScanOptions vo;
-  vo.views = views;
-  vo.width = 160;
-  vo.height = 120;
-  vo.noise = 0.2;
-  PointCloud c = merge_views(virtual_scan(ball_on_a_plane(), vo));
+  PointCloud c = merge_views(virtual_scan(ball_on_a_plane(), scan_options(views, 160, 120, 0.2)));
   estimate_normals(c, NormalOptions{});
   MeshingDecision d;
   mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(c), &d);
@@ -140,11 +137,7 @@ TEST(MeshCloud, ASingleViewKeepsGreedyProjectionWithTheGapItDidNotSee) {
 // every point and leave no hole (its pieces lie over one another); mesh.auto must see that and give one
 // layer: the largest, the pieces over it removed (or Poisson, if that fits the points better).
 TEST(MeshCloud, GreedyProjectionThatMeshesABowlTwiceIsNotKept) {
-  VirtualScanOptions vo;
-  vo.views = 10;
-  vo.width = 96;
-  vo.height = 72;
-  vo.noise = 0.2;
+  const VirtualScanOptions vo = scan_options(10, 96, 72, 0.2);
   PointCloud c = merge_views(virtual_scan(test::make_cap(24, 96, 0.5 * M_PI), vo));
   estimate_normals(c, NormalOptions{});  // as the main job: surface normals, each facing the sensor that saw the point
   const CloudScale s = measure_scale(c);
