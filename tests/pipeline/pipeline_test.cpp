@@ -308,7 +308,8 @@ TEST_F(PipelineTest, AMeshMadeFromACloudIsDenoisedAsAScannedMesh) {
     return flags;
   };
   EXPECT_EQ(scanned_in_sidecar(""), "true/true");  // greedy projection: the points are the vertices
-  EXPECT_EQ(scanned_in_sidecar("    scanned: false\n    vertices_are_points: false\n"), "false/false");
+  EXPECT_EQ(scanned_in_sidecar("    scanned: false\n"), "false/false");  // no scan, so no scan's points either
+  EXPECT_EQ(scanned_in_sidecar("    vertices_are_points: false\n"), "true/false");
   // Poisson's vertices are a surface fitted to the points: scanned, but its triangles are its own.
   EXPECT_EQ(scanned_in_sidecar("", "", "mesh.poisson"), "true/false");
   // Synthetic noise added after meshing is not the scanner's: impulsive noise must stay possible.

@@ -61,7 +61,9 @@ struct DenoiseStage : Stage {
     // A mesh this pipeline triangulated from a cloud is a scanned mesh unless the configuration says otherwise.
     DenoiseOptions run_options = o;
     if (d.scanned_mesh && std::find(given.begin(), given.end(), "scanned") == given.end()) run_options.scanned = true;
-    if (d.scanned_mesh && d.mesh_keeps_points && std::find(given.begin(), given.end(), "vertices_are_points") == given.end())
+    // ...and its vertices are the points unless Poisson made it (or the configuration says it is no scan).
+    if (run_options.scanned && d.scanned_mesh && d.mesh_keeps_points &&
+        std::find(given.begin(), given.end(), "vertices_are_points") == given.end())
       run_options.vertices_are_points = true;
     const AutoReport a = denoise_auto(m, run_options, given, {}, report_progress);
     std::snprintf(buf, sizeof buf, "auto: noise %.3f x mean edge; %s: %s -> sigma_s %.3g, lambda %.3g, %d iteration%s (%s), radius factor %.3g; check %s",
