@@ -117,7 +117,8 @@ struct DenoiseOptions {
                   "The mesh's vertices are the scanned points themselves (greedy projection, organized meshing), not a "
                   "surface fitted to them (Poisson): auto lowers the wide kernel's fidelity weight lambda under weak "
                   "noise, where evening out such an irregular triangulation moves its vertices off the surface more "
-                  "than the noise had. The main job sets it when its mesh keeps the points.");
+                  "than the noise had, and where no feature-keeping iteration passes its result check it tries the "
+                  "wide kernel instead of returning the input. The main job sets it when its mesh keeps the points.");
     return s;
   }
 };
