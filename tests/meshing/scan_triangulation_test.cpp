@@ -191,3 +191,24 @@ TEST(ScanPairs, WhereTheNarrowKernelKeepsNothingAScanTakesTheWideOne) {
   EXPECT_LT(evaluate(fallback, &clean).msae_deg, evaluate(kept, &clean).msae_deg);
   EXPECT_LT(evaluate(fallback, &clean).msae_deg, input);
 }
+
+// Around a complete object too, a gap the closing leaves open is a region no view saw (no patch lies
+// within the trim distance of the points), even with noisy points just inside its rim; it does not send
+// the scan to Poisson, whose smooth surface lies farther from the object than the mesh through the
+// points. The bumpy sphere from two views of 96 x 72 under weak noise.
+TEST(MeshCloud, AGapNoViewSawKeepsGreedyProjectionAroundACompleteObject) {
+  PointCloud c = merge_views(virtual_scan(bumpy_sphere(), scan_options(2, 96, 72, 0.1)));
+  estimate_normals(c, NormalOptions{});
+  PointCloud same = c;
+  MeshingDecision d;
+  const Mesh kept = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(c), &d);
+  EXPECT_LT(decision_number(d, "one_sided_normals"), 0.9);
+  ASSERT_EQ(d.method, MeshMethod::gp3) << d.reason;
+  EXPECT_NE(d.reason.find("with points beside"), std::string::npos) << d.reason;
+  EXPECT_NE(d.reason.find("the gaps left open lie farther than the trim distance from the points"), std::string::npos) << d.reason;
+  MeshMethodOptions poisson;
+  poisson.method = MeshMethod::poisson;
+  const Mesh p = mesh_cloud(same, poisson, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, measure_scale(same), nullptr);
+  const Mesh model = bumpy_sphere();
+  EXPECT_LT(evaluate(kept, &model).ev_relative, evaluate(p, &model).ev_relative);
+}
