@@ -10,6 +10,7 @@
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/errors.h"
 #include "scanmesh/fill_holes.h"
+#include "scanmesh/flip_edges.h"
 #include "scanmesh/heartbeat.h"
 #include "scanmesh/neighbourhoods.h"
 
@@ -196,7 +197,11 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     switch (m) {
       case MeshMethod::organized: return triangulate_organized(cloud, organized, scale);
       case MeshMethod::poisson: return triangulate_poisson(cloud, poisson, scale);
-      default: return triangulate_gp3(cloud, gp3, scale);
+      default: {
+        Mesh g = triangulate_gp3(cloud, gp3, scale);
+        if (gp3.flips) flip_edges(g);
+        return g;
+      }
     }
   }
 
@@ -222,8 +227,13 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     g = triangulate_gp3(cloud, gp3, scale);
   }
   clean_mesh(g, CleanupOptions{}, cloud.sensor_origin);
+  std::string flipped;
+  if (gp3.flips) {
+    const FlipReport fr = flip_edges(g);
+    flipped = ", " + std::to_string(fr.flips) + " edges flipped towards Delaunay";
+  }
   ScanFit gf = measure_scan_fit(g, points, scale.spacing);
-  say("greedy projection: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
+  say("greedy projection: " + std::to_string(g.faces.size()) + " faces" + flipped + ", " + fit_words(gf, limits));
   // Both sides of a thin sheet or an open shell seen (each view's normals facing its own sensor): greedy
   // projection meshes each side's points as a layer of its own, pieces lying over one another. The
   // largest layer is kept and the pieces over it removed; what they alone covered counts as left out.

@@ -18,6 +18,7 @@ struct Gp3Options {
   double max_surface_angle_deg = 45.0;
   double min_angle_deg = 10.0;
   double max_angle_deg = 120.0;
+  bool flips = true;
   static const Schema<Gp3Options>& schema() {
     static const Schema<Gp3Options> s =
         Schema<Gp3Options>()
@@ -29,7 +30,10 @@ struct Gp3Options {
             .number("gp3_max_surface_angle", &Gp3Options::max_surface_angle_deg, closed(1, 180), "degrees",
                     "Greedy projection: points whose normals differ more are not connected.")
             .number("gp3_min_angle", &Gp3Options::min_angle_deg, closed(0, 60), "degrees", "Greedy projection: smallest triangle angle.")
-            .number("gp3_max_angle", &Gp3Options::max_angle_deg, closed(60, 180), "degrees", "Greedy projection: largest triangle angle.");
+            .number("gp3_max_angle", &Gp3Options::max_angle_deg, closed(60, 180), "degrees", "Greedy projection: largest triangle angle.")
+            .flag("gp3_flips", &Gp3Options::flips,
+                  "Greedy projection: then flip edges towards a Delaunay triangulation of the same points (rounder "
+                  "triangles, no point moves; a flip that would fold is not made).");
     return s;
   }
 };

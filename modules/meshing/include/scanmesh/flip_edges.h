@@ -1,0 +1,28 @@
+#pragma once
+// Edge flips towards a Delaunay triangulation of the same points. Greedy projection connects each point
+// to neighbours it finds in a growing front, which leaves long slivers and many edges whose two opposite
+// angles sum to more than pi; flipping such an edge to the other diagonal of its quad gives rounder
+// triangles over the very same points, so no measured point moves.
+#include <cstddef>
+
+#include "scanmesh/mesh.h"
+
+namespace scanmesh {
+
+struct FlipReport {
+  std::size_t flips = 0;  ///< edges flipped, over all rounds
+  int rounds = 0;         ///< rounds that flipped at least one edge
+};
+
+/// Flips, in rounds, every interior edge whose two opposite angles sum to more than pi (each face at most
+/// once per round, edges in index order, so the result does not depend on anything but the mesh), unless
+/// the flip would fold (either new face turns against the two old ones' summed normal), leave an interior
+/// vertex with fewer than three faces (a boundary vertex with none), or repeat an edge the mesh has.
+/// Where the angles call for a flip, the new pair of faces bends less than the old one, so a sharp edge
+/// is cut only where its two faces are slivers along it (a scan's points are never on the edge itself).
+/// Edges with other than two faces, or whose faces disagree about the orientation, are left alone.
+/// Stops after `max_rounds` rounds or the first round without a flip. Positions are not touched; the
+/// face count and the faces' order stay the same. Work per round is linear in the faces (plus a sort).
+FlipReport flip_edges(Mesh& mesh, int max_rounds = 20);
+
+}  // namespace scanmesh

@@ -1,0 +1,111 @@
+#include "scanmesh/flip_edges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+namespace scanmesh {
+namespace {
+
+std::uint64_t edge_key(int a, int b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+}
+
+// The angle at p of the triangle (p, a, b), robust for obtuse and nearly flat corners.
+double angle_at(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 u = a - p, v = b - p;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+Vec3 area_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
+
+// Whether face f has the directed edge x -> y, and its third corner.
+bool runs(const Face& f, int x, int y) {
+  for (int k = 0; k < 3; ++k)
+    if (f[k] == x && f[(k + 1) % 3] == y) return true;
+  return false;
+}
+int third(const Face& f, int x, int y) {
+  for (int k = 0; k < 3; ++k)
+    if (f[k] != x && f[k] != y) return f[k];
+  return -1;
+}
+
+}  // namespace
+
+FlipReport flip_edges(Mesh& mesh, int max_rounds) {
+  FlipReport report;
+  const auto nf = mesh.faces.size();
+  std::vector<std::pair<std::uint64_t, int>> sides;  // (edge, face) for every face side, sorted by edge
+  std::vector<int> faces_at(mesh.positions.size());
+  std::vector<char> open_at(mesh.positions.size());
+  std::vector<char> touched(nf);
+  std::unordered_set<std::uint64_t> made;  // edges this round's flips created
+  for (int round = 0; round < max_rounds; ++round) {
+    sides.clear();
+    sides.reserve(3 * nf);
+    std::fill(faces_at.begin(), faces_at.end(), 0);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        sides.emplace_back(edge_key(mesh.faces[f][k], mesh.faces[f][(k + 1) % 3]), static_cast<int>(f));
+        ++faces_at[mesh.faces[f][k]];
+      }
+    std::sort(sides.begin(), sides.end());
+    // A vertex keeps at least three faces if interior, one if on a boundary (or a non-manifold edge).
+    std::fill(open_at.begin(), open_at.end(), 0);
+    for (std::size_t i = 0; i < sides.size();) {
+      std::size_t j = i;
+      while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+      if (j - i != 2) open_at[sides[i].first >> 32] = open_at[sides[i].first & 0xffffffffu] = 1;
+      i = j;
+    }
+    auto may_lose_a_face = [&](int v) { return faces_at[v] > (open_at[v] ? 1 : 3); };
+    auto exists = [&](std::uint64_t key) {
+      const auto it = std::lower_bound(sides.begin(), sides.end(), std::make_pair(key, -1));
+      return (it != sides.end() && it->first == key) || made.count(key) > 0;
+    };
+    std::fill(touched.begin(), touched.end(), 0);
+    made.clear();
+    std::size_t flips = 0;
+    for (std::size_t i = 0; i < sides.size();) {
+      std::size_t j = i;
+      while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+      const bool interior = j - i == 2;
+      const std::uint64_t key = sides[i].first;
+      const int f0 = sides[i].second, f1 = interior ? sides[i + 1].second : -1;
+      i = j;
+      if (!interior || f0 == f1 || touched[f0] || touched[f1]) continue;
+      int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+      int fa = f0, fb = f1;  // fa runs a -> b, fb runs b -> a
+      if (!runs(mesh.faces[fa], a, b)) std::swap(fa, fb);
+      if (!runs(mesh.faces[fa], a, b) || !runs(mesh.faces[fb], b, a)) continue;  // orientations disagree
+      const int c = third(mesh.faces[fa], a, b), d = third(mesh.faces[fb], a, b);
+      if (c < 0 || d < 0 || c == d || !may_lose_a_face(a) || !may_lose_a_face(b) || exists(edge_key(c, d))) continue;
+      const Vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], &pc = mesh.positions[c], &pd = mesh.positions[d];
+      if (angle_at(pc, pa, pb) + angle_at(pd, pa, pb) <= M_PI + 1e-9) continue;  // Delaunay already
+      const Vec3 n1 = area_normal(pa, pb, pc), n2 = area_normal(pb, pa, pd);
+      const Vec3 m1 = area_normal(pa, pd, pc), m2 = area_normal(pd, pb, pc);
+      const double l1 = n1.norm(), l2 = n2.norm(), k1 = m1.norm(), k2 = m2.norm();
+      if (!(l1 > 0.0 && l2 > 0.0 && k1 > 0.0 && k2 > 0.0)) continue;
+      const Vec3 before = n1 / l1 + n2 / l2;
+      if (m1.dot(before) <= 0.0 || m2.dot(before) <= 0.0) continue;  // would fold
+      // (No test of how much the pair bends: where the opposite angles call for a flip, c and d lie close
+      // to the line ab and a and b far from cd, so the new pair always bends less than the old one.)
+      mesh.faces[fa] = {a, d, c};
+      mesh.faces[fb] = {d, b, c};
+      touched[fa] = touched[fb] = 1;
+      --faces_at[a], --faces_at[b], ++faces_at[c], ++faces_at[d];
+      made.insert(edge_key(c, d));
+      ++flips;
+    }
+    if (flips == 0) break;
+    report.flips += flips;
+    ++report.rounds;
+  }
+  return report;
+}
+
+}  // namespace scanmesh
