@@ -114,6 +114,24 @@ TEST(FlipEdges, APairOfSliversIsFlippedAcrossAndBendsLess) {
   EXPECT_LT(bend(0, 1), before);
 }
 
+// A flip that calls for it by its angles but would bend the pair more than it was, and more than the
+// limit, is not made (a quad found by sampling random ones: 34 degrees between the old faces, 45 between
+// the new ones); with a looser limit it is.
+TEST(FlipEdges, AFlipThatWouldBendThePairMoreIsNotMade) {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0.1, 0}, {0.3, -0.3, 0.2}, {-0.5, 0.5, 0}, {1.5, 0.5, 0}, {-0.5, -0.5, 0}, {1.5, -0.5, 0}};
+  m.faces = {{0, 1, 2}, {1, 0, 3}, {0, 2, 4}, {2, 1, 5}, {3, 0, 6}, {1, 3, 7}};
+  ASSERT_GT(angle_at(m.positions[2], m.positions[0], m.positions[1]) + angle_at(m.positions[3], m.positions[0], m.positions[1]), M_PI);
+  const Mesh before = m;
+  flip_edges(m, 30.0);
+  EXPECT_EQ(m.faces[0], before.faces[0]);
+  EXPECT_EQ(m.faces[1], before.faces[1]);
+  Mesh loose = before;
+  flip_edges(loose, 90.0);
+  EXPECT_EQ(loose.faces[0], (Face{0, 3, 2}));
+  EXPECT_EQ(loose.faces[1], (Face{3, 1, 2}));
+}
+
 // Running it again changes nothing, and the same input gives the same faces.
 TEST(FlipEdges, TheResultIsDeterministicAndAFixedPoint) {
   Mesh a = jittered_grid(20, 3), b = jittered_grid(20, 3);

@@ -16,13 +16,14 @@ struct FlipReport {
 
 /// Flips, in rounds, every interior edge whose two opposite angles sum to more than pi (each face at most
 /// once per round, edges in index order, so the result does not depend on anything but the mesh), unless
-/// the flip would fold (either new face turns against the two old ones' summed normal), leave an interior
-/// vertex with fewer than three faces (a boundary vertex with none), or repeat an edge the mesh has.
-/// Where the angles call for a flip, the new pair of faces bends less than the old one, so a sharp edge
-/// is cut only where its two faces are slivers along it (a scan's points are never on the edge itself).
+/// the flip would fold (either new face turns against the two old ones' summed normal), bend the pair
+/// more than it was and more than `max_bend_deg` (the angle between the two faces' normals), leave an
+/// interior vertex with fewer than three faces (a boundary vertex with none), or repeat an edge the mesh
+/// has. A sharp edge whose two faces are slivers along it may be flipped across when that flattens them:
+/// a scan's points are never exactly on the edge, so the triangulation was cutting it anyway.
 /// Edges with other than two faces, or whose faces disagree about the orientation, are left alone.
 /// Stops after `max_rounds` rounds or the first round without a flip. Positions are not touched; the
 /// face count and the faces' order stay the same. Work per round is linear in the faces (plus a sort).
-FlipReport flip_edges(Mesh& mesh, int max_rounds = 20);
+FlipReport flip_edges(Mesh& mesh, double max_bend_deg = 30.0, int max_rounds = 20);
 
 }  // namespace scanmesh

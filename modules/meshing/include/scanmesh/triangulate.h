@@ -33,7 +33,8 @@ struct Gp3Options {
             .number("gp3_max_angle", &Gp3Options::max_angle_deg, closed(60, 180), "degrees", "Greedy projection: largest triangle angle.")
             .flag("gp3_flips", &Gp3Options::flips,
                   "Greedy projection: then flip edges towards a Delaunay triangulation of the same points (rounder "
-                  "triangles, no point moves; a flip that would fold is not made).");
+                  "triangles, no point moves; a flip that would fold, or bend the pair more than it was and than 30 "
+                  "degrees, is not made).");
     return s;
   }
 };
