@@ -11,6 +11,7 @@
 #include <set>
 #include <utility>
 
+#include "scanmesh/flip_edges.h"
 #include "scanmesh/geometry.h"
 
 namespace scanmesh {
@@ -53,15 +54,6 @@ LoopNeighbourhood loop_neighbourhood(const Mesh& mesh, const std::vector<std::ve
   n.edges.erase(std::unique(n.edges.begin(), n.edges.end()), n.edges.end());
   std::sort(n.directed.begin(), n.directed.end());
   return n;
-}
-
-Vec3 face_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
-
-// Angle between two (unnormalized) normals, radians; 0 when one is degenerate.
-double angle_between(const Vec3& n, const Vec3& m) {
-  const double s = n.norm() * m.norm();
-  if (!(s > 0.0)) return 0.0;
-  return std::acos(std::clamp(n.dot(m) / s, -1.0, 1.0));
 }
 
 // A triangulation's weight: its worst fold first (1 - cos of the largest dihedral angle, inside and with
@@ -163,8 +155,6 @@ class PatchPositions {
   const Patch& patch_;
 };
 
-double corner_angle(const Vec3& at, const Vec3& a, const Vec3& b) { return angle_between(a - at, b - at); }
-
 // Edge -> the (one or two) patch faces on it, in face order.
 std::map<Edge, std::vector<int>> patch_edges(const Patch& patch) {
   std::map<Edge, std::vector<int>> e;
@@ -236,10 +226,7 @@ void refine(const Mesh& mesh, Patch& patch, double target, const LoopNeighbourho
         const auto [fa, fb] = faces_along(patch, a, b, fs);
         const int c = opposite(patch.faces[fa], a, b), d = opposite(patch.faces[fb], a, b);
         if (c == d || edges.count(undirected(c, d)) || (c >= 0 && d >= 0 && around.has_edge(c, d))) continue;
-        if (corner_angle(pos[c], pos[a], pos[b]) + corner_angle(pos[d], pos[a], pos[b]) <= M_PI + 1e-9) continue;
-        // The new faces (a, d, c) and (d, b, c) must face the way the old pair did.
-        const Vec3 before = face_normal(pos[a], pos[b], pos[c]) + face_normal(pos[b], pos[a], pos[d]);
-        if (face_normal(pos[a], pos[d], pos[c]).dot(before) <= 0.0 || face_normal(pos[d], pos[b], pos[c]).dot(before) <= 0.0) continue;
+        if (!should_flip(pos[a], pos[b], pos[c], pos[d], -1.0)) continue;  // a fresh patch: any bend
         patch.faces[fa] = {a, d, c};
         patch.faces[fb] = {d, b, c};
         touched[fa] = touched[fb] = 1;

@@ -14,14 +14,6 @@ std::uint64_t edge_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32) | static_cast<std::uint32_t>(std::max(a, b));
 }
 
-// The angle at p of the triangle (p, a, b), robust for obtuse and nearly flat corners.
-double angle_at(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 u = a - p, v = b - p;
-  return std::atan2(u.cross(v).norm(), u.dot(v));
-}
-
-Vec3 area_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
-
 // Whether face f has the directed edge x -> y, and its third corner.
 bool runs(const Face& f, int x, int y) {
   for (int k = 0; k < 3; ++k)
@@ -35,6 +27,25 @@ int third(const Face& f, int x, int y) {
 }
 
 }  // namespace
+
+bool should_flip(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cos_max_bend) {
+  // The angle at p of the triangle (p, q, r), robust for obtuse and nearly flat corners.
+  auto angle_at = [](const Vec3& p, const Vec3& q, const Vec3& r) {
+    const Vec3 u = q - p, v = r - p;
+    return std::atan2(u.cross(v).norm(), u.dot(v));
+  };
+  if (angle_at(c, a, b) + angle_at(d, a, b) <= M_PI + 1e-9) return false;  // Delaunay already
+  auto area_normal = [](const Vec3& p, const Vec3& q, const Vec3& r) { return Vec3((q - p).cross(r - p)); };
+  const Vec3 n1 = area_normal(a, b, c), n2 = area_normal(b, a, d);
+  const Vec3 m1 = area_normal(a, d, c), m2 = area_normal(d, b, c);
+  const double l1 = n1.norm(), l2 = n2.norm(), k1 = m1.norm(), k2 = m2.norm();
+  if (!(l1 > 0.0 && l2 > 0.0 && k1 > 0.0 && k2 > 0.0)) return false;
+  const Vec3 before = n1 / l1 + n2 / l2;
+  if (m1.dot(before) <= 0.0 || m2.dot(before) <= 0.0) return false;  // would fold
+  // Mostly the new pair bends less than the old one, but not always (about 6% of random non-planar
+  // quads that call for a flip, by up to ~27 degrees): beyond the limit it may not bend more.
+  return m1.dot(m2) / (k1 * k2) >= std::min(n1.dot(n2) / (l1 * l2), cos_max_bend);
+}
 
 FlipReport flip_edges(Mesh& mesh, double max_bend_deg, int max_rounds) {
   FlipReport report;
@@ -85,17 +96,7 @@ FlipReport flip_edges(Mesh& mesh, double max_bend_deg, int max_rounds) {
       if (!runs(mesh.faces[fa], a, b) || !runs(mesh.faces[fb], b, a)) continue;  // orientations disagree
       const int c = third(mesh.faces[fa], a, b), d = third(mesh.faces[fb], a, b);
       if (c < 0 || d < 0 || c == d || !may_lose_a_face(a) || !may_lose_a_face(b) || exists(edge_key(c, d))) continue;
-      const Vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], &pc = mesh.positions[c], &pd = mesh.positions[d];
-      if (angle_at(pc, pa, pb) + angle_at(pd, pa, pb) <= M_PI + 1e-9) continue;  // Delaunay already
-      const Vec3 n1 = area_normal(pa, pb, pc), n2 = area_normal(pb, pa, pd);
-      const Vec3 m1 = area_normal(pa, pd, pc), m2 = area_normal(pd, pb, pc);
-      const double l1 = n1.norm(), l2 = n2.norm(), k1 = m1.norm(), k2 = m2.norm();
-      if (!(l1 > 0.0 && l2 > 0.0 && k1 > 0.0 && k2 > 0.0)) continue;
-      const Vec3 before = n1 / l1 + n2 / l2;
-      if (m1.dot(before) <= 0.0 || m2.dot(before) <= 0.0) continue;  // would fold
-      // Mostly the new pair bends less than the old one, but not always (about 6% of random non-planar
-      // quads that call for a flip, by up to ~27 degrees): beyond the limit it may not bend more.
-      if (m1.dot(m2) / (k1 * k2) < std::min(n1.dot(n2) / (l1 * l2), cos_bend)) continue;
+      if (!should_flip(mesh.positions[a], mesh.positions[b], mesh.positions[c], mesh.positions[d], cos_bend)) continue;
       mesh.faces[fa] = {a, d, c};
       mesh.faces[fb] = {d, b, c};
       touched[fa] = touched[fb] = 1;

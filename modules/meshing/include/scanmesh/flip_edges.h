@@ -14,6 +14,13 @@ struct FlipReport {
   int rounds = 0;         ///< rounds that flipped at least one edge
 };
 
+/// The flip test shared by the whole-mesh flips below and hole filling's patches: whether the edge (a, b)
+/// between the triangles (a, b, c) and (b, a, d) should become the quad's other diagonal (c, d), i.e. the
+/// triangles (a, d, c) and (d, b, c). Yes when the angles at c and d sum past pi, neither new triangle
+/// turns against the old pair (the sum of their unit normals), no triangle is degenerate, and the new
+/// pair bends no more than the old one or than the angle whose cosine is `cos_max_bend` (-1: any bend).
+bool should_flip(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double cos_max_bend);
+
 /// Flips, in rounds, every interior edge whose two opposite angles sum to more than pi (each face at most
 /// once per round, edges in index order, so the result does not depend on anything but the mesh), unless
 /// the flip would fold (either new face turns against the two old ones' summed normal), bend the pair
