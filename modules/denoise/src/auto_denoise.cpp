@@ -116,6 +116,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // Soft creases above this share at the probe: a smooth shape (noise the narrow kernel locked in). The
   // wide kernel's continuation needs more than this too (AutoRules::smooth_crease_fall).
   const double crease_limit = rules.crease_share + rules.crease_share_per_level * na.level;
+  // ...on a triangulation of scanned points a lower floor (AutoRules::points_crease_floor).
+  const double fall_floor = o.vertices_are_points && rules.points_crease_floor >= 0.0 ? std::min(crease_limit, rules.points_crease_floor)
+                                                                                      : crease_limit;
   int levelled_at = 0;
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
@@ -230,7 +233,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         if (d >= target) {
           // (fall_off, set by the feature-keeping run's probe, is that run's own)
           const bool falling = track && !(while_falling && fall_off) && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2] &&
-                               (while_falling || creases_at[it] > crease_limit);
+                               (while_falling || creases_at[it] > fall_floor);
           if (falling && ran_past_target == 0) ran_past_target = it;
           if (!falling) {
             reached = true;
