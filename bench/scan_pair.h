@@ -2,13 +2,15 @@
 // A denoising pair made the way scans are (bench/scan_pairs.cpp, and the tests of --auto on scanned
 // triangulations): a model ray-cast twice with the same rays, without and with depth noise; greedy
 // projection of the noise-free points, cleaned up as the main job does, is the clean mesh, and the same
-// faces over the noisy points the noisy one.
+// faces over the noisy points the noisy one. With `flips`, the noisy mesh's edges are then flipped towards
+// Delaunay as the main job does (judged on the noisy points, as there) and the clean mesh takes its faces.
 #include <functional>
 #include <unordered_map>
 
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
 #include "scanmesh/combine_views.h"
+#include "scanmesh/flip_edges.h"
 #include "scanmesh/triangulate.h"
 #include "scanmesh/virtual_scan.h"
 
@@ -16,7 +18,8 @@ namespace scanmesh::bench {
 
 /// Fills `clean` and `noisy` (same vertices and faces) from `model` scanned with `options`; false if the
 /// two scans do not line up (or hold fewer than 100 points).
-inline bool make_scan_pair(const Mesh& model, const VirtualScanOptions& options, Mesh& clean, Mesh& noisy) {
+inline bool make_scan_pair(const Mesh& model, const VirtualScanOptions& options, Mesh& clean, Mesh& noisy,
+                           bool flips = false) {
   VirtualScanOptions exact = options;
   exact.noise = 0.0;
   const PointCloud c0 = merge_views(virtual_scan(model, exact));
@@ -40,6 +43,10 @@ inline bool make_scan_pair(const Mesh& model, const VirtualScanOptions& options,
     const auto it = index.find(clean.positions[v]);
     if (it == index.end()) return false;
     noisy.positions[v] = c1.points[static_cast<std::size_t>(it->second)];
+  }
+  if (flips) {
+    flip_edges(noisy);
+    clean.faces = noisy.faces;
   }
   clean.vertex_properties.clear();  // (the noise-free normals would not be the noisy mesh's)
   noisy.vertex_properties.clear();

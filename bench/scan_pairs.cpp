@@ -8,6 +8,7 @@
 // feature-keeping (0.7, 0.2) kernels (radius 3) on their curves, for comparison with `--auto`'s stop.
 // usage: scanmesh_scan_pairs [DATA_DIR] [--views N] [--pixels WxH] [--scan-noise S] [--models a,b,...]
 //                            [--write DIR]   (writes MODEL-clean.ply / MODEL-noisy.ply there)
+//                            [--flips]       (the noisy mesh's edges flipped towards Delaunay, as the main job does)
 // Skips cleanly if DATA_DIR is absent.
 #include <cstdio>
 #include <cstring>
@@ -55,6 +56,7 @@ std::pair<double, int> best_on_curve(const Mesh& noisy, const Mesh& clean, doubl
 static int run(int argc, char** argv) {
   fs::path data = "../shared/data";
   std::string model_list = "bunny,fandisk,spot,homer,rocker-arm,cow,cheburashka,teapot", write_dir;
+  bool flips = false;
   VirtualScanOptions vo;
   vo.views = 6;
   vo.width = 160;
@@ -64,6 +66,7 @@ static int run(int argc, char** argv) {
     if (bench::read_scan_option(i, argc, argv, vo)) continue;
     if (!std::strcmp(argv[i], "--models") && i + 1 < argc) model_list = argv[++i];
     else if (!std::strcmp(argv[i], "--write") && i + 1 < argc) write_dir = argv[++i];
+    else if (!std::strcmp(argv[i], "--flips")) flips = true;
     else data = argv[i];
   }
   if (!fs::is_directory(data / "train")) {
@@ -72,8 +75,8 @@ static int run(int argc, char** argv) {
   }
   const std::unordered_map<std::string, fs::path> shared = {{"bunny", data / "pairs" / "bunny-0.2" / "clean.obj"},
                                                             {"fandisk", data / "pairs" / "fandisk-0.3" / "clean.obj"}};
-  std::printf("## Scan pairs: %d views of %d x %d pixels, depth noise %g (MSAE in degrees against greedy projection of the noise-free scan)\n\n",
-              vo.views, vo.width, vo.height, vo.noise);
+  std::printf("## Scan pairs: %d views of %d x %d pixels, depth noise %g (MSAE in degrees against greedy projection of the noise-free scan%s)\n\n",
+              vo.views, vo.width, vo.height, vo.noise, flips ? ", edges flipped towards Delaunay" : "");
   std::printf("| model | faces | noisy | defaults | --auto | mode, iterations | bi-Laplacian, 10 its | wide kernel at its best | feature-keeping at its best |\n"
               "|---|---|---|---|---|---|---|---|---|\n");
   std::stringstream names(model_list);
@@ -82,7 +85,7 @@ static int run(int argc, char** argv) {
     const fs::path file = s != shared.end() ? s->second : data / "train" / (name + ".obj");
     if (!fs::exists(file)) continue;
     Mesh clean, noisy;
-    if (!bench::make_scan_pair(read_mesh(file.string()), vo, clean, noisy)) {
+    if (!bench::make_scan_pair(read_mesh(file.string()), vo, clean, noisy, flips)) {
       std::printf("| %s | the two scans do not line up | | | | | | | |\n", name.c_str());
       continue;
     }
