@@ -1,6 +1,7 @@
 // flip_edges: rounder triangles over the same points, without folding or cutting a sharp edge.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -158,4 +159,28 @@ TEST(FlipEdges, NonManifoldAndMisorientedEdgesAreLeftAlone) {
   EXPECT_EQ(mixed.faces.back(), before.faces.back());
   Mesh empty;
   EXPECT_EQ(flip_edges(empty).flips, 0u);
+}
+
+// The test both flip_edges and hole filling's patches use, on single quads: edge (a, b) between the
+// triangles (a, b, c) and (b, a, d).
+TEST(FlipEdges, TheSharedFlipTestOnSingleQuads) {
+  const Vec3 a(0, 0, 0), b(4, 0, 0);
+  // A flat kite whose apexes lie close to the edge: their angles sum past pi, the other diagonal is better.
+  EXPECT_TRUE(should_flip(a, b, Vec3(2, 0.5, 0), Vec3(2, -0.5, 0), -1.0));
+  // Apexes far from the edge: their angles sum below pi, the edge is Delaunay already.
+  EXPECT_FALSE(should_flip(a, b, Vec3(2, 3, 0), Vec3(2, -3, 0), -1.0));
+  // A degenerate old triangle (c on the edge) is never flipped.
+  EXPECT_FALSE(should_flip(a, b, Vec3(2, 0, 0), Vec3(2, -0.5, 0), -1.0));
+  // The sampled quad of the test above: the new pair bends more than the old (34 -> 45 degrees); allowed
+  // with no limit or a limit above that, refused below it.
+  const Vec3 p(0, 0, 0), q(1, 0, 0), c(0, 0.1, 0), d(0.3, -0.3, 0.2);
+  const auto bend = [](const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s, const Vec3& t, const Vec3& u) {
+    const Vec3 n = (q - p).cross(r - p).normalized(), m = (t - s).cross(u - s).normalized();
+    return std::acos(std::clamp(n.dot(m), -1.0, 1.0)) * 180.0 / M_PI;
+  };
+  const double before = bend(p, q, c, q, p, d), after = bend(p, d, c, d, q, c);
+  ASSERT_GT(after, before);
+  EXPECT_TRUE(should_flip(p, q, c, d, -1.0));
+  EXPECT_FALSE(should_flip(p, q, c, d, std::cos(0.5 * (before + after) * M_PI / 180.0)));
+  EXPECT_TRUE(should_flip(p, q, c, d, std::cos((after + 1.0) * M_PI / 180.0)));  // within the limit
 }
