@@ -30,7 +30,8 @@ bool should_flip(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, dou
 /// a scan's points are never exactly on the edge, so the triangulation was cutting it anyway.
 /// Edges with other than two faces, or whose faces disagree about the orientation, are left alone.
 /// Stops after `max_rounds` rounds or the first round without a flip. Positions are not touched; the
-/// face count and the faces' order stay the same. Work per round is linear in the faces (plus a sort).
+/// face count and the faces' order stay the same. The faces' sides are sorted once; each later round
+/// costs a pass over them plus a search per flip.
 FlipReport flip_edges(Mesh& mesh, double max_bend_deg = 30.0, int max_rounds = 20);
 
 }  // namespace scanmesh
