@@ -122,6 +122,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   int levelled_at = 0;
   bool fall_off = false;  // set by the probe: too few flat edges for the crease-fall continuation
   int ran_past_target = 0;  // where the continuation first kept the run going past its target
+  bool past_target_by_bends = false;  // ...because every bend was falling fast, not the soft creases alone
   int flat_floor_from = 0;  // where the flat floor kept the run going past its target
   int flat_floor_to = 0;    // ...and the iteration it went on to
   bool flat_floor_grown = false;  // ...ended there by the floor's growth limit
@@ -143,6 +144,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     bool volume_failed = false;       // the last iteration failed on the volume, not on turned surface
     FaceGeometry at;
     std::vector<double> creases_at;  // by iteration (index 0: not measured)
+    std::vector<double> bends_at;    // every bend over the soft creases' lower limit, likewise (wide run on scanned points)
+    const bool track_bends = !while_falling && o.vertices_are_points && rules.points_bend_fall;
     const double fall = while_falling ? rules.crease_fall : smooth_fall;
     const bool track = fall > 0.0 && target_on;
     const bool plateau = while_falling && target_on && rules.plateau_growth > 0.0;
@@ -188,6 +191,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       if (track && target_on) {
         creases_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
         creases_at[it] = bend_share(at, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+        if (track_bends) {
+          bends_at.resize(static_cast<std::size_t>(it) + 1, -1.0);
+          bends_at[it] = bend_share(at, topo, rules.soft_crease_min_deg, 180.0);
+        }
       }
       // The probe is asked before the target (not once the target has been reached), so a run that
       // reaches its target at the probe's own iteration is judged by every rule of the probe, not by the
@@ -232,9 +239,18 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
         }
         if (d >= target) {
           // (fall_off, set by the feature-keeping run's probe, is that run's own)
-          const bool falling = track && !(while_falling && fall_off) && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2] &&
+          // On scanned points whose first iteration left more edges bent over the soft band than in it (noise
+          // wider than the spacing: hard creases feed the soft band as they soften), every bend counts
+          // (AutoRules::points_bend_fall).
+          const bool soft_falling = track && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2];
+          const bool bends_falling = track && track_bends && it / 2 >= 1 && bends_at[1] > 2.0 * creases_at[1] &&
+                                     bends_at[it] < fall * bends_at[it / 2];
+          const bool falling = track && !(while_falling && fall_off) && (soft_falling || bends_falling) &&
                                (while_falling || creases_at[it] > fall_floor);
-          if (falling && ran_past_target == 0) ran_past_target = it;
+          if (falling && ran_past_target == 0) {
+            ran_past_target = it;
+            past_target_by_bends = !soft_falling;
+          }
           if (!falling) {
             reached = true;
             if ((!plateau && !floor_rule) || (ends_at_target && ends_at_target(accepted, last_pass))) return false;
@@ -497,9 +513,17 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.probe_iterations = rep.iterations;
     ran_past_target = 0;  // (the feature-keeping run's, if it went past its target before the probe)
     auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false, {}, rules.smooth_crease_fall);
-    if (ran_past_target > 0)
+    if (ran_past_target > 0 && past_target_by_bends) {
+      std::snprintf(line, sizeof line,
+                    "; the wide kernel went on past the displacement target at iteration %d while its creases were still "
+                    "falling fast (noise wider than the point spacing: after its first iteration more edges bent over %.0f deg "
+                    "than %.0f-%.0f deg)",
+                    ran_past_target, rules.soft_crease_max_deg, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+      r.reason += line;
+    } else if (ran_past_target > 0) {
       r.reason += "; the wide kernel went on past the displacement target at iteration " + std::to_string(ran_past_target) +
                   " while its soft creases were still falling fast";
+    }
     r.ran_past_target = ran_past_target;
     r.run = rep2;
     r.check = verdict2;

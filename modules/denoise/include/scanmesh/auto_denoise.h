@@ -162,6 +162,17 @@ struct AutoRules {
   /// 0-0.02 (leave-one-model-out over the main job's 19 virtual scans it changes: mean normal error 10.33 ->
   /// 8.74 degrees held back; docs/EXPERIMENTS.md, "The crease floor on scanned triangulations").
   double points_crease_floor = 0.005;
+  /// On a triangulation of scanned points whose first wide iteration left more edges bent over
+  /// soft_crease_max_deg than in the soft band (depth noise wider than the point spacing), the wide
+  /// kernel's continuation also counts as falling fast when every bend over soft_crease_min_deg falls
+  /// below smooth_crease_fall x its share at half the iterations. There the first iterations turn hard
+  /// creases into soft ones, so the soft share hides the fall and the run stopped at its target with the
+  /// surface still rough (an organized single view of spot under depth noise 0.5: 5 iterations, 27.4
+  /// degrees from the model; with this rule 57, 8.3). On coarse scans under weaker noise the shape's own
+  /// bends fall as it is smoothed, hence the condition (without it three sparse scan pairs ran on and
+  /// lost). No constant of its own; not on meshes given noise, where the corpus's rules were fitted
+  /// (docs/EXPERIMENTS.md, "Strong depth noise: every bend counts").
+  bool points_bend_fall = true;
   int max_iterations = 200;
   double radius_factor = 3.0;
   /// Closed meshes: relative volume change at which the run stops. Off: rounding a noisy part's edges
