@@ -241,10 +241,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           // (fall_off, set by the feature-keeping run's probe, is that run's own)
           // On scanned points whose first iteration left more edges bent over the soft band than in it (noise
           // wider than the spacing: hard creases feed the soft band as they soften), every bend counts
-          // (AutoRules::points_bend_fall).
+          // (AutoRules::points_bend_fall), and the run goes on while the hard creases alone are above the
+          // probe's limit (AutoRules::points_hard_floor).
           const bool soft_falling = track && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2];
-          const bool bends_falling = track && track_bends && it / 2 >= 1 && bends_at[1] > 2.0 * creases_at[1] &&
-                                     bends_at[it] < fall * bends_at[it / 2];
+          const bool hard_first = track && track_bends && it / 2 >= 1 && bends_at[1] > 2.0 * creases_at[1];
+          const bool bends_falling = hard_first && (bends_at[it] < fall * bends_at[it / 2] ||
+                                                    (rules.points_hard_floor && bends_at[it] - creases_at[it] > crease_limit));
           const bool falling = track && !(while_falling && fall_off) && (soft_falling || bends_falling) &&
                                (while_falling || creases_at[it] > fall_floor);
           if (falling && ran_past_target == 0) {
@@ -516,8 +518,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     if (ran_past_target > 0 && past_target_by_bends) {
       std::snprintf(line, sizeof line,
                     "; the wide kernel went on past the displacement target at iteration %d while its creases were still "
-                    "falling fast (noise wider than the point spacing: after its first iteration more edges bent over %.0f deg "
-                    "than %.0f-%.0f deg)",
+                    "falling fast or many edges still bent over %.0f deg (noise wider than the point spacing: after its first "
+                    "iteration more edges bent over that than %.0f-%.0f deg)",
                     ran_past_target, rules.soft_crease_max_deg, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
       r.reason += line;
     } else if (ran_past_target > 0) {

@@ -173,6 +173,13 @@ struct AutoRules {
   /// lost). No constant of its own; not on meshes given noise, where the corpus's rules were fitted
   /// (docs/EXPERIMENTS.md, "Strong depth noise: every bend counts").
   bool points_bend_fall = true;
+  /// ...and on such a mesh the wide run does not stop at its target either while more edges than the
+  /// probe's crease limit (crease_share + crease_share_per_level x level) still bend over
+  /// soft_crease_max_deg: under noise far wider than the spacing the bends fall by only 0.7 per doubling
+  /// of the iterations early on, and the target came after 4 (organized views under noise 0.7: spot, the
+  /// cow and the teapot 41.9 / 32.9 / 37.1 degrees from the model, now 29.7 / 16.5 / 20.6). The same
+  /// limit the probe applies to soft creases; no constant of its own.
+  bool points_hard_floor = true;
   int max_iterations = 200;
   double radius_factor = 3.0;
   /// Closed meshes: relative volume change at which the run stops. Off: rounding a noisy part's edges
