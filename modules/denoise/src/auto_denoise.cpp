@@ -244,10 +244,10 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
           // (AutoRules::points_bend_fall), and the run goes on while the hard creases alone are above the
           // probe's limit (AutoRules::points_hard_floor).
           const bool soft_falling = track && it / 2 >= 1 && creases_at[it] < fall * creases_at[it / 2];
-          const bool hard_first = track && track_bends && it / 2 >= 1 && bends_at[1] > 2.0 * creases_at[1];
-          const bool bends_falling = hard_first && (bends_at[it] < fall * bends_at[it / 2] ||
-                                                    (rules.points_hard_floor && bends_at[it] - creases_at[it] > crease_limit));
-          const bool falling = track && !(while_falling && fall_off) && (soft_falling || bends_falling) &&
+          auto hard = [&](int k) { return bends_at[static_cast<std::size_t>(k)] - creases_at[static_cast<std::size_t>(k)]; };
+          const bool bends_falling = track && track_bends && it / 2 >= 1 && hard(1) > creases_at[1] &&
+                                     (bends_at[it] < fall * bends_at[it / 2] || (rules.points_hard_floor && hard(it) > crease_limit));
+          const bool falling = (soft_falling || bends_falling) && !(while_falling && fall_off) &&
                                (while_falling || creases_at[it] > fall_floor);
           if (falling && ran_past_target == 0) {
             ran_past_target = it;
@@ -515,16 +515,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.probe_iterations = rep.iterations;
     ran_past_target = 0;  // (the feature-keeping run's, if it went past its target before the probe)
     auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false, {}, rules.smooth_crease_fall);
-    if (ran_past_target > 0 && past_target_by_bends) {
-      std::snprintf(line, sizeof line,
-                    "; the wide kernel went on past the displacement target at iteration %d while its creases were still "
-                    "falling fast or many edges still bent over %.0f deg (noise wider than the point spacing: after its first "
-                    "iteration more edges bent over that than %.0f-%.0f deg)",
-                    ran_past_target, rules.soft_crease_max_deg, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
-      r.reason += line;
-    } else if (ran_past_target > 0) {
+    if (ran_past_target > 0) {
+      if (past_target_by_bends)
+        std::snprintf(line, sizeof line,
+                      " while its creases were still falling fast or many edges still bent over %.0f deg (noise wider than the "
+                      "point spacing: after its first iteration more edges bent over that than %.0f-%.0f deg)",
+                      rules.soft_crease_max_deg, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
       r.reason += "; the wide kernel went on past the displacement target at iteration " + std::to_string(ran_past_target) +
-                  " while its soft creases were still falling fast";
+                  (past_target_by_bends ? line : " while its soft creases were still falling fast");
     }
     r.ran_past_target = ran_past_target;
     r.run = rep2;
