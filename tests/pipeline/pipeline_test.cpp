@@ -210,6 +210,28 @@ TEST_F(PipelineTest, AFailingRunLeavesAFailedSidecarAndNoOutput) {
   EXPECT_NE(json.find("mesh.organized"), std::string::npos) << json;
 }
 
+TEST_F(PipelineTest, AMeshGivenToCloudStagesOrACloudToMeshStagesIsNamedWithWhatToDo) {
+  // The main job given a mesh file (a scanner's own mesh, say) and a denoising pipeline given a cloud: the
+  // error says what the input is and which command fits it, not only that a stage lacks its data.
+  auto run_error = [&](const std::string& yaml) {
+    Pipeline p = Pipeline::load(write("p.yaml", yaml), {});
+    try {
+      p.run();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string on_mesh = run_error("pipeline:\n  - " + path("in.ply") + "\n  - type: cloud.outliers\n  - " + path("out.ply") + "\n");
+  EXPECT_NE(on_mesh.find("needs a point cloud, but the input is a triangle mesh (1280 faces)"), std::string::npos) << on_mesh;
+  EXPECT_NE(on_mesh.find("scanmesh denoise"), std::string::npos) << on_mesh;
+  write("c.xyz", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
+  const std::string on_cloud = run_error("pipeline:\n  - " + path("c.xyz") + "\n  - type: mesh.denoise\n  - " + path("out.ply") + "\n");
+  EXPECT_NE(on_cloud.find("mesh.denoise needs a triangle mesh, but the input is a point cloud (4 points)"), std::string::npos) << on_cloud;
+  EXPECT_NE(on_cloud.find("scanmesh mesh"), std::string::npos) << on_cloud;
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+}
+
 TEST_F(PipelineTest, AFailureAfterAWriterLeavesNoOutputOfThatWriter) {
   // Outputs are committed only when the whole run succeeds; the intermediate writer's file never appears.
   const std::string yaml = "pipeline:\n  - " + path("in.ply") + "\n  - type: write\n    filename: " + path("mid.ply") +

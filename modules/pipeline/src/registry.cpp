@@ -30,22 +30,39 @@ StageRegistry& stage_registry() {
   return r;
 }
 
+namespace {
+
+// Why a stage that needs a cloud has none: usually the input was a triangle mesh given to a scan pipeline.
+std::string no_cloud(const Data& d, const std::string& stage) {
+  if (d.mesh && !d.meshed)
+    return stage + " needs a point cloud, but the input is a triangle mesh (" + std::to_string(d.mesh->num_faces()) +
+           " faces): the cloud and meshing stages start from points. To denoise a mesh: 'scanmesh denoise MESH OUT --auto' "
+           "(or configs/denoise.yaml); to mesh its vertices again, save them as points first (.xyz, or a PLY without faces)";
+  return stage + " needs a point cloud, but the pipeline has none at this point";
+}
+
+}  // namespace
+
 const CloudScale& scale_of(Data& d) {
   if (!d.scale) {
-    if (!d.cloud) throw InputError("this stage needs a point cloud, but the pipeline has none at this point");
+    if (!d.cloud) throw InputError(no_cloud(d, "this stage"));
     d.scale = measure_scale(*d.cloud);
   }
   return *d.scale;
 }
 
 PointCloud& need_cloud(Data& d, const char* stage) {
-  if (!d.cloud) throw InputError(std::string(stage) + " needs a point cloud, but the pipeline has none at this point");
+  if (!d.cloud) throw InputError(no_cloud(d, stage));
   return *d.cloud;
 }
 
 Mesh& need_mesh(Data& d, const char* stage) {
-  if (!d.mesh) throw InputError(std::string(stage) + " needs a mesh, but the pipeline has none at this point (mesh the cloud first)");
-  return *d.mesh;
+  if (d.mesh) return *d.mesh;
+  if (d.cloud)
+    throw InputError(std::string(stage) + " needs a triangle mesh, but the input is a point cloud (" + std::to_string(d.cloud->size()) +
+                     " points) and no stage has meshed it: mesh it first ('scanmesh mesh CLOUD OUT', or the main job, "
+                     "configs/scan_to_mesh.yaml)");
+  throw InputError(std::string(stage) + " needs a triangle mesh, but the pipeline has none at this point");
 }
 
 }  // namespace scanmesh::detail
