@@ -163,13 +163,6 @@ std::map<Edge, std::vector<int>> patch_edges(const Patch& patch) {
   return e;
 }
 
-// The vertex of face f that is not on edge (a, b).
-int opposite(const Face& f, int a, int b) {
-  for (int v : f)
-    if (v != a && v != b) return v;
-  return -1;
-}
-
 // Of the two faces on edge (a, b), the one running a -> b first.
 std::pair<int, int> faces_along(const Patch& patch, int a, int b, const std::vector<int>& fs) {
   const Face& f = patch.faces[fs[0]];
@@ -203,7 +196,7 @@ void refine(const Mesh& mesh, Patch& patch, double target, const LoopNeighbourho
         touched[fs[0]] = touched[fs[1]] = 1;
         const int a = e.first, b = e.second;
         const auto [fa, fb] = faces_along(patch, a, b, fs);  // fa runs a -> b, fb b -> a
-        const int c = opposite(patch.faces[fa], a, b), d = opposite(patch.faces[fb], a, b);
+        const int c = opposite_corner(patch.faces[fa], a, b), d = opposite_corner(patch.faces[fb], a, b);
         const Vec3 mid = 0.5 * (pos[a] + pos[b]);
         patch.new_positions.push_back(mid);
         patch.parents.emplace_back(a, b);
@@ -224,7 +217,7 @@ void refine(const Mesh& mesh, Patch& patch, double target, const LoopNeighbourho
         if (fs.size() != 2 || touched[fs[0]] || touched[fs[1]]) continue;
         const int a = e.first, b = e.second;
         const auto [fa, fb] = faces_along(patch, a, b, fs);
-        const int c = opposite(patch.faces[fa], a, b), d = opposite(patch.faces[fb], a, b);
+        const int c = opposite_corner(patch.faces[fa], a, b), d = opposite_corner(patch.faces[fb], a, b);
         if (c == d || edges.count(undirected(c, d)) || (c >= 0 && d >= 0 && around.has_edge(c, d))) continue;
         if (!should_flip(pos[a], pos[b], pos[c], pos[d], -1.0)) continue;  // a fresh patch: any bend
         patch.faces[fa] = {a, d, c};

@@ -15,16 +15,11 @@ std::uint64_t edge_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32) | static_cast<std::uint32_t>(std::max(a, b));
 }
 
-// Whether face f has the directed edge x -> y, and its third corner.
+// Whether face f has the directed edge x -> y.
 bool runs(const Face& f, int x, int y) {
   for (int k = 0; k < 3; ++k)
     if (f[k] == x && f[(k + 1) % 3] == y) return true;
   return false;
-}
-int third(const Face& f, int x, int y) {
-  for (int k = 0; k < 3; ++k)
-    if (f[k] != x && f[k] != y) return f[k];
-  return -1;
 }
 
 }  // namespace
@@ -133,7 +128,7 @@ FlipReport flip_edges(Mesh& mesh, double max_bend_deg, int max_rounds) {
       int fa = f0, fb = f1;  // fa runs a -> b, fb runs b -> a
       if (!runs(mesh.faces[fa], a, b)) std::swap(fa, fb);
       if (!runs(mesh.faces[fa], a, b) || !runs(mesh.faces[fb], b, a)) continue;  // orientations disagree
-      const int c = third(mesh.faces[fa], a, b), d = third(mesh.faces[fb], a, b);
+      const int c = opposite_corner(mesh.faces[fa], a, b), d = opposite_corner(mesh.faces[fb], a, b);
       if (c < 0 || d < 0 || c == d || !may_lose_a_face(a) || !may_lose_a_face(b)) continue;
       if (!should_flip(mesh.positions[a], mesh.positions[b], mesh.positions[c], mesh.positions[d], cos_bend)) continue;
       if (exists(edge_key(c, d))) continue;  // (a search of the whole table: last, for the few that pass)

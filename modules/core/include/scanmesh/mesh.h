@@ -38,6 +38,13 @@ struct Mesh {
   [[nodiscard]] VertexProperty* find_property(const std::string& name);
 };
 
+/// The corner of face `f` that is not on its edge (a, b); -1 if every corner is a or b.
+inline int opposite_corner(const Face& f, int a, int b) {
+  for (int v : f)
+    if (v != a && v != b) return v;
+  return -1;
+}
+
 /// Throws InputError (naming `what`, e.g. the file) if a face index is out of range or a coordinate is
 /// not finite, or a property has the wrong length.
 void validate_mesh(const Mesh& mesh, const std::string& what);
