@@ -47,6 +47,47 @@ TEST(Length, ParsesAllForms) {
   EXPECT_THROW(parse_length("-1", "x"), UsageError);
 }
 
+TEST(CloudStages, CopiesOfAPointAreMergedKeepingTheFirst) {
+  // Unorganized: later copies go, with their normals and colours; -0 and +0 are one position; NaN stays.
+  PointCloud c;
+  const double nan = std::nan("");
+  c.points = {{1, 2, 3}, {0, 0, 0}, {1, 2, 3}, {4, 5, 6}, {-0.0, 0, 0}, {nan, 0, 0}, {1, 2, 3}};
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    c.normals.emplace_back(0, 0, static_cast<double>(i));
+    c.colours.push_back({static_cast<std::uint8_t>(i), 0, 0});
+  }
+  c.width = static_cast<int>(c.points.size());
+  EXPECT_EQ(merge_copies(c), 3u);
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_EQ(c.points[0], Vec3(1, 2, 3));
+  EXPECT_EQ(c.points[1], Vec3(0, 0, 0));
+  EXPECT_EQ(c.points[2], Vec3(4, 5, 6));
+  EXPECT_TRUE(std::isnan(c.points[3].x()));
+  EXPECT_EQ(c.normals[2].z(), 3.0);  // the attributes of the points kept
+  EXPECT_EQ(c.colours[3][0], 5);
+  EXPECT_EQ(merge_copies(c), 0u);  // nothing left to merge
+
+  // Organized: the grid stays, copies become holes; a cloud without copies is left as it was.
+  PointCloud g = plane_cloud(4, 1.0, 0.0, 1);
+  g.width = 4, g.height = 4;
+  const PointCloud before = g;
+  EXPECT_EQ(merge_copies(g), 0u);
+  EXPECT_EQ(g.points, before.points);
+  g.points[9] = g.points[2];
+  EXPECT_EQ(merge_copies(g), 1u);
+  EXPECT_EQ(g.size(), 16u);
+  EXPECT_EQ(g.points[2], before.points[2]);
+  EXPECT_TRUE(std::isnan(g.points[9].x()));
+
+  // Many copies of one position among many other points (buckets of the hash, and a large one).
+  PointCloud m = plane_cloud(100, 0.1, 0.01, 7);
+  const std::size_t n = m.size();
+  for (int k = 0; k < 20000; ++k) m.points.push_back(m.points[123]);
+  m.width = static_cast<int>(m.points.size());
+  EXPECT_EQ(merge_copies(m), 20000u);
+  EXPECT_EQ(m.size(), n);
+}
+
 TEST(CloudStages, ScaleOfAGrid) {
   const PointCloud c = plane_cloud(10, 0.5, 0.0, 1);
   const CloudScale s = measure_scale(c);

@@ -1,7 +1,12 @@
 #include "scanmesh/point_cloud.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <sstream>
+
 
 namespace scanmesh {
 
@@ -42,6 +47,87 @@ void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
   cloud.height = 1;
 }
 
+std::size_t merge_copies(PointCloud& cloud) {
+  // Positions are hashed, the points split by the hash's top bits into buckets of a few thousand (a
+  // counting sort, which keeps file order within each bucket), and each bucket deduplicated with a table
+  // that fits the cache; coordinates are compared only where hashes agree. A sort of a scan's millions of
+  // points, or one table over all of them, took seconds.
+  const std::size_t n = cloud.size();
+  const std::vector<Vec3>& p = cloud.points;
+  auto bits = [](double v) {
+    std::uint64_t b = 0;
+    const double w = v == 0.0 ? 0.0 : v;  // -0 and +0 are one position
+    std::memcpy(&b, &w, sizeof b);
+    return b;
+  };
+  auto mix = [](std::uint64_t h) {  // splitmix64's finalizer
+    h ^= h >> 30, h *= 0xbf58476d1ce4e5b9ULL;
+    h ^= h >> 27, h *= 0x94d049bb133111ebULL;
+    return h ^ (h >> 31);
+  };
+  struct Entry {
+    std::uint64_t hash;
+    std::size_t index;
+  };
+  int bucket_bits = 0;
+  while (bucket_bits < 16 && (n >> bucket_bits) > 4096) ++bucket_bits;
+  const std::size_t buckets = std::size_t{1} << bucket_bits;
+  auto hash = [&](const Vec3& q) { return mix(mix(mix(bits(q.x())) ^ bits(q.y())) ^ bits(q.z())); };
+  auto bucket = [&](std::uint64_t h) { return bucket_bits == 0 ? std::size_t{0} : static_cast<std::size_t>(h >> (64 - bucket_bits)); };
+  std::vector<std::size_t> start(buckets + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (p[i].allFinite()) ++start[bucket(hash(p[i])) + 1];
+  for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<Entry> entries(start[buckets]);  // hashed twice rather than stored: fresh memory is slow
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (p[i].allFinite()) {
+        const std::uint64_t h = hash(p[i]);
+        entries[fill[bucket(h)]++] = {h, i};
+      }
+  }
+  std::vector<std::uint8_t> keep(n, 1);
+  std::size_t copies = 0;
+#pragma omp parallel reduction(+ : copies)
+  {
+    std::vector<std::uint32_t> table;  // slot -> 1 + position in the bucket of the first point there
+#pragma omp for schedule(dynamic, 16)
+    for (long b = 0; b < static_cast<long>(buckets); ++b) {
+      const Entry* e = entries.data() + start[b];
+      const std::size_t m = start[b + 1] - start[b];
+      std::size_t slots = 16;
+      while (slots < 2 * m) slots *= 2;
+      table.assign(slots, 0);
+      for (std::size_t k = 0; k < m; ++k) {
+        std::size_t s = e[k].hash & (slots - 1);
+        bool copy = false;
+        for (; table[s] != 0; s = (s + 1) & (slots - 1)) {
+          const Entry& first = e[table[s] - 1];
+          if (first.hash == e[k].hash && p[first.index] == p[e[k].index]) {
+            copy = true;
+            break;
+          }
+        }
+        if (copy) {
+          keep[e[k].index] = 0;  // each index is in one bucket only
+          ++copies;
+        } else {
+          table[s] = static_cast<std::uint32_t>(k + 1);
+        }
+      }
+    }
+  }
+  if (copies == 0) return 0;
+  if (cloud.organized()) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (!keep[i]) cloud.points[i] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  } else {
+    keep_points(cloud, keep);
+  }
+  return copies;
+}
+
 void drop_non_finite(PointCloud& cloud) {
   std::vector<std::uint8_t> keep(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) keep[i] = cloud.points[i].allFinite() ? 1 : 0;
@@ -76,8 +162,9 @@ std::string surface_problem(const PointCloud& cloud) {
       extent = std::max(extent, d.cwiseAbs().maxCoeff());
     }
   std::ostringstream s;
-  if (extent == 0.0) {
-    s << "all " << n << " points are at one position (" << mean.x() << ", " << mean.y() << ", " << mean.z() << ")";
+  if (extent == 0.0) {  // (one point is what the reader leaves of any number of copies)
+    s << (n == 1 ? std::string("all points are") : "all " + std::to_string(n) + " points are") << " at one position (" << mean.x() << ", "
+      << mean.y() << ", " << mean.z() << ")";
     return s.str();
   }
   // The cloud stages work in single precision on coordinates taken relative to the cloud's centre: below

@@ -46,6 +46,12 @@ struct CloudScale {
 /// Removes NaN/infinite points (and their normals/colours); the result is unorganized.
 void drop_non_finite(PointCloud& cloud);
 
+/// Keeps the first of finite points at exactly the same position (a view saved twice, an exporter's
+/// filler, a sensor's "no return" written as 0 0 0): in an unorganized cloud later copies are removed, in
+/// an organized one they become NaN holes (the grid stays). Returns how many. k-d trees cannot split a
+/// position that many points share, so every later neighbour search around it would be quadratic.
+std::size_t merge_copies(PointCloud& cloud);
+
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
 
