@@ -13,6 +13,7 @@
 #include "helpers.h"
 #include "run_cli.h"
 #include "scanmesh/atomic_file.h"
+#include "scanmesh/mesh_io.h"
 
 namespace fs = std::filesystem;
 using scanmesh::test::Outcome;
@@ -198,6 +199,26 @@ TEST_F(Hostile, ManyCopiesOfOnePointBesideASurfaceAreMerged) {
   EXPECT_EQ(o.exit_code, 0) << o.err;
   EXPECT_NE(o.err.find(std::to_string(copies) + " copies of points merged"), std::string::npos) << o.err;
   EXPECT_TRUE(fs::exists(path("out.ply")));
+}
+
+TEST_F(Hostile, AFewGlitchPointsFarAwayAreOutliersNotALine) {
+  // A scanner's glitch: three points at 1e9 beside a 1 x 1 plane. Their spread made the whole cloud read
+  // as one line ("no surface to find"), and the box's centre, the origin of the single-precision stages,
+  // lay so far from the plane that it would have rounded to one point. Now the glitches are outliers.
+  std::string text;
+  char line[96];
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      std::snprintf(line, sizeof line, "%.4f %.4f %.5f\n", i / 40.0, j / 40.0, 0.001 * ((i * 7 + j * 13) % 5 - 2));
+      text += line;
+    }
+  text += "1e9 0 0\n1e9 1 0\n-3e8 5 2\n";
+  const std::string file = write("glitch.xyz", text);
+  const Outcome o = run_scanmesh({"mesh", file, path("out.ply")}, path("err"));
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  const scanmesh::Mesh m = scanmesh::read_mesh(path("out.ply"));
+  ASSERT_GT(m.num_faces(), 1000u);
+  for (const auto& p : m.positions) EXPECT_LT(p.cwiseAbs().maxCoeff(), 2.0);
 }
 
 TEST_F(Hostile, ConcurrentRunsWritingOneOutputNeverMix) {

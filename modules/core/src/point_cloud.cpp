@@ -26,9 +26,47 @@ Box finite_box(const std::vector<Vec3>& points) {
   return b;
 }
 
+namespace {
+
+// Where most of the finite points are: the coordinate-wise median of up to 100,000 of them (evenly
+// strided, so deterministic) and the radius around it holding 90% of that sample; n = 0 if none.
+struct Bulk {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0.0;
+  std::size_t n = 0;
+};
+
+Bulk bulk_of(const std::vector<Vec3>& points) {
+  std::vector<Vec3> sample;
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 100000);
+  for (std::size_t i = 0; i < points.size(); i += stride)
+    if (points[i].allFinite()) sample.push_back(points[i]);
+  Bulk b;
+  b.n = sample.size();
+  if (sample.empty()) return b;
+  std::vector<double> v(sample.size());
+  for (int c = 0; c < 3; ++c) {
+    for (std::size_t i = 0; i < sample.size(); ++i) v[i] = sample[i][c];
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    b.centre[c] = v[v.size() / 2];
+  }
+  for (std::size_t i = 0; i < sample.size(); ++i) v[i] = (sample[i] - b.centre).norm();
+  const auto k = static_cast<long>((v.size() * 9) / 10);
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  b.radius = v[static_cast<std::size_t>(k)];
+  return b;
+}
+
+}  // namespace
+
 Vec3 local_origin(const std::vector<Vec3>& points) {
   const Box b = finite_box(points);
-  return b.empty() ? Vec3::Zero() : Vec3(0.5 * (b.lo + b.hi));
+  if (b.empty()) return Vec3::Zero();
+  const Vec3 centre = 0.5 * (b.lo + b.hi);
+  // A few points far from the rest (a sensor's glitch at 1e9) would put the box's centre so far from
+  // the scan that single precision rounds the scan itself away; then the scan's own middle is the origin.
+  const Bulk bulk = bulk_of(points);
+  return (centre - bulk.centre).norm() > 1e3 * bulk.radius && bulk.radius > 0.0 ? bulk.centre : centre;
 }
 
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
@@ -180,6 +218,36 @@ std::string surface_problem(const PointCloud& cloud) {
   // largest, the single precision PCL's stages work in ~1e-14 (a spread across the line of a millionth
   // of its length). A scanned pole or wire, however thin, is wider than that by its noise.
   if (!(l(1) > 1e-12 * l(2))) {
+    // A few far points (a glitch at 1e9) make any scan look like a line: judge the bulk then, the 90%
+    // nearest its middle; outlier removal takes the rest.
+    const Bulk bulk = bulk_of(cloud.points);
+    Vec3 bmean = Vec3::Zero();
+    std::size_t bn = 0;
+    for (const Vec3& p : cloud.points)
+      if (p.allFinite() && (p - bulk.centre).norm() <= bulk.radius) bmean += p, ++bn;
+    if (bn >= 3) {
+      bmean /= static_cast<double>(bn);
+      Eigen::Matrix3d bcov = Eigen::Matrix3d::Zero();
+      for (const Vec3& p : cloud.points)
+        if (p.allFinite() && (p - bulk.centre).norm() <= bulk.radius) bcov += (p - bmean) * (p - bmean).transpose();
+      const Vec3 bl = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(bcov / static_cast<double>(bn)).eigenvalues();
+      if (bl(1) > 1e-12 * bl(2)) return "";
+    }
+    // Spread across the line at rounding level: truly one line. More: clusters too far apart for the
+    // stages' single precision to resolve both.
+    const Vec3 axis = eig.eigenvectors().col(2);
+    double across = 0.0, along = 0.0;
+    for (const Vec3& p : cloud.points)
+      if (p.allFinite()) {
+        const Vec3 d = p - mean;
+        across = std::max(across, (d - d.dot(axis) * axis).norm());
+        along = std::max(along, std::abs(d.dot(axis)));
+      }
+    if (across > 1e-9 * along) {
+      s << "the " << n << " points stretch over " << 2.0 * along << " (scene units) along one direction but only " << across
+        << " across it, more range than the cloud stages' single precision resolves (far points? cut them away with cloud.crop)";
+      return s.str();
+    }
     s << "all " << n << " points lie on one line";
     return s.str();
   }
