@@ -127,6 +127,7 @@ std::size_t merge_copies(PointCloud& cloud) {
   }
   std::vector<std::uint8_t> keep(n, 1);
   std::size_t copies = 0;
+  const bool organized = cloud.organized();
 #pragma omp parallel reduction(+ : copies)
   {
     std::vector<std::uint32_t> table;  // slot -> 1 + position in the bucket of the first point there
@@ -150,6 +151,9 @@ std::size_t merge_copies(PointCloud& cloud) {
         if (copy) {
           keep[e[k].index] = 0;  // each index is in one bucket only
           ++copies;
+          // Two pixels of a grid see along different rays, which meet only at the sensor: a position
+          // several pixels share is a marker ("no return" written as 0 0 0), the first pixel's too.
+          if (organized && keep[e[table[s] - 1].index]) keep[e[table[s] - 1].index] = 0, ++copies;
         } else {
           table[s] = static_cast<std::uint32_t>(k + 1);
         }

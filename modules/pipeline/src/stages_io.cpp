@@ -71,8 +71,8 @@ struct ReaderStage : Stage {
     }
     if (!o.transform.isIdentity()) transform_cloud(*d.cloud, t);
     if (const std::size_t copies = merge_copies(*d.cloud); copies > 0)
-      details = std::to_string(copies) + " copies of points merged (the first of each position kept" +
-                (d.cloud->organized() ? ", the others left as holes in the grid)" : ")");
+      details = d.cloud->organized() ? std::to_string(copies) + " pixels at positions other pixels share (a 'no return' marker) left as holes"
+                                     : std::to_string(copies) + " copies of points merged (the first of each position kept)";
     d.scale = measure_scale(*d.cloud);
     if (ctx.report) {  // several readers (views): their points add up; spacing and extent are the first's
       const bool first = ctx.report->input_points == 0;

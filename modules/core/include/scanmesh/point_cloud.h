@@ -46,10 +46,11 @@ struct CloudScale {
 /// Removes NaN/infinite points (and their normals/colours); the result is unorganized.
 void drop_non_finite(PointCloud& cloud);
 
-/// Keeps the first of finite points at exactly the same position (a view saved twice, an exporter's
-/// filler, a sensor's "no return" written as 0 0 0): in an unorganized cloud later copies are removed, in
-/// an organized one they become NaN holes (the grid stays). Returns how many. k-d trees cannot split a
-/// position that many points share, so every later neighbour search around it would be quadratic.
+/// Finite points at exactly the same position (a view saved twice, an exporter's filler, a depth camera's
+/// "no return" written as 0 0 0): an unorganized cloud keeps the first of them and loses the others; in an
+/// organized one all of them become NaN holes (the grid stays; two pixels' rays meet only at the sensor,
+/// so a shared position is a marker, not a measurement). Returns how many points went. k-d trees cannot
+/// split a position that many points share, so every later neighbour search around it would be quadratic.
 std::size_t merge_copies(PointCloud& cloud);
 
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
