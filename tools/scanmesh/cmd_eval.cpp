@@ -48,6 +48,10 @@ int run_eval(const std::vector<std::string>& args) {
     if (holds_cloud(ref)) cloud = std::make_unique<PointCloud>(read_cloud(ref, &warnings));
     else reference = std::make_unique<Mesh>(read_mesh(ref, &warnings));
   }
+  if (cloud)  // copies of a point make every neighbour search around it quadratic (as on reading in a pipeline)
+    if (const std::size_t copies = merge_copies(*cloud); copies > 0)
+      warnings.push_back(vm["reference"].as<std::string>() + ": " + std::to_string(copies) +
+                         (cloud->organized() ? " pixels at shared positions left out" : " copies of points merged"));
   print_warnings(warnings, quiet);
   if (reference && reference->num_faces() != mesh.num_faces() && !quiet)
     std::cerr << "warning: the reference has " << reference->num_faces() << " faces and the mesh " << mesh.num_faces()
