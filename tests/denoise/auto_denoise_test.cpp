@@ -278,6 +278,20 @@ TEST(AutoDenoise, AZipperedRefinedCylinderRunsWhileItsCreasesFall) {
   EXPECT_LT(evaluate(with, &clean).flipped_faces, evaluate(input, &clean).flipped_faces / 4);
 }
 
+// A mesh of zero-area faces (its points on one line) has no normal to filter: said so, not run for 200
+// iterations that move nothing.
+TEST(AutoDenoise, AMeshOfZeroAreaFacesIsLeftWithItsReason) {
+  Mesh m;
+  for (int i = 0; i < 50; ++i) m.positions.emplace_back(i, 0.5 * i, 0.0);
+  for (int i = 0; i + 2 < 50; ++i) m.faces.push_back({i, i + 1, i + 2});
+  const Mesh before = m;
+  const AutoReport r = denoise_auto(m, {}, {}, AutoRules{});
+  EXPECT_EQ(r.mode, "untouched");
+  EXPECT_NE(r.reason.find("zero area"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.run.iterations, 0);
+  EXPECT_EQ(m.positions, before.positions);
+}
+
 // A clean mesh is a fixed point of --auto when its surface is smooth at the scale of its edges: the
 // clean 20k-face sphere is left exactly as it is (its noise estimate reads its curvature), the same sphere
 // under noise is denoised.

@@ -355,6 +355,14 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.shifted = rules.shift_warning > 0.0 && std::abs(r.mean_normal_move) > std::max(rules.shift_warning * r.noise, rules.shift_warning_edges * edge);
   };
 
+  if (std::none_of(geometry.areas.begin(), geometry.areas.end(), [](double a) { return a > 0.0; })) {
+    // No face has an area, so no face has a normal to filter: a run would leave every vertex where it is.
+    r.mode = "untouched";
+    r.reason = "every face has zero area (no face normal to filter): nothing to denoise";
+    r.options.iterations = 0;
+    r.check = "not needed";
+    return r;
+  }
   if (rules.clean_agreement > 0.0 && na.height_agreement >= rules.clean_agreement && !o.scanned && !is_given("iterations")) {
     // Curvature makes neighbours' heights alike, noise makes them unrelated: a coarse smooth model's own
     // shape read as noise would only be smoothed away (the clean spot, 1.98 degrees from itself after a run).
