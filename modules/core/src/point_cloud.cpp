@@ -237,21 +237,6 @@ std::string surface_problem(const PointCloud& cloud) {
       const Vec3 bl = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(bcov / static_cast<double>(bn)).eigenvalues();
       if (bl(1) > 1e-12 * bl(2)) return "";
     }
-    // Spread across the line at rounding level: truly one line. More: clusters too far apart for the
-    // stages' single precision to resolve both.
-    const Vec3 axis = eig.eigenvectors().col(2);
-    double across = 0.0, along = 0.0;
-    for (const Vec3& p : cloud.points)
-      if (p.allFinite()) {
-        const Vec3 d = p - mean;
-        across = std::max(across, (d - d.dot(axis) * axis).norm());
-        along = std::max(along, std::abs(d.dot(axis)));
-      }
-    if (across > 1e-9 * along) {
-      s << "the " << n << " points stretch over " << 2.0 * along << " (scene units) along one direction but only " << across
-        << " across it, more range than the cloud stages' single precision resolves (far points? cut them away with cloud.crop)";
-      return s.str();
-    }
     s << "all " << n << " points lie on one line";
     return s.str();
   }
