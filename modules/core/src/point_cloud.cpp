@@ -7,7 +7,6 @@
 #include <limits>
 #include <sstream>
 
-
 namespace scanmesh {
 
 std::size_t PointCloud::finite_count() const {
@@ -55,6 +54,39 @@ Bulk bulk_of(const std::vector<Vec3>& points) {
   std::nth_element(v.begin(), v.begin() + k, v.end());
   b.radius = v[static_cast<std::size_t>(k)];
   return b;
+}
+
+// Count, mean, summed outer products about the mean and largest coordinate offset from it of the finite
+// points that `take` accepts.
+struct Spread {
+  std::size_t n = 0;
+  Vec3 mean = Vec3::Zero();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  double extent = 0.0;
+};
+
+template <class Take>
+Spread spread_of(const std::vector<Vec3>& points, Take take) {
+  Spread r;
+  for (const Vec3& p : points)
+    if (p.allFinite() && take(p)) {
+      r.mean += p;
+      ++r.n;
+    }
+  if (r.n == 0) return r;
+  r.mean /= static_cast<double>(r.n);
+  for (const Vec3& p : points)
+    if (p.allFinite() && take(p)) {
+      const Vec3 d = p - r.mean;
+      r.cov += d * d.transpose();
+      r.extent = std::max(r.extent, d.cwiseAbs().maxCoeff());
+    }
+  return r;
+}
+
+// Eigenvalues (ascending) of a spread's covariance.
+Vec3 spread_eigenvalues(const Spread& s) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(s.cov / static_cast<double>(s.n)).eigenvalues();
 }
 
 }  // namespace
@@ -161,7 +193,7 @@ std::size_t merge_copies(PointCloud& cloud) {
     }
   }
   if (copies == 0) return 0;
-  if (cloud.organized()) {
+  if (organized) {
     for (std::size_t i = 0; i < n; ++i)
       if (!keep[i]) cloud.points[i] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {
@@ -186,23 +218,11 @@ void transform_cloud(PointCloud& cloud, const Eigen::Isometry3d& pose) {
 }
 
 std::string surface_problem(const PointCloud& cloud) {
-  std::size_t n = 0;
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : cloud.points)
-    if (p.allFinite()) {
-      mean += p;
-      ++n;
-    }
+  const Spread all = spread_of(cloud.points, [](const Vec3&) { return true; });
+  const std::size_t n = all.n;
+  const Vec3& mean = all.mean;
+  const double extent = all.extent;
   if (n == 0) return "the cloud has no finite points";
-  mean /= static_cast<double>(n);
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  double extent = 0.0;
-  for (const Vec3& p : cloud.points)
-    if (p.allFinite()) {
-      const Vec3 d = p - mean;
-      cov += d * d.transpose();
-      extent = std::max(extent, d.cwiseAbs().maxCoeff());
-    }
   std::ostringstream s;
   if (extent == 0.0) {  // (one point is what the reader leaves of any number of copies)
     s << (n == 1 ? std::string("all points are") : "all " + std::to_string(n) + " points are") << " at one position (" << mean.x() << ", "
@@ -216,8 +236,7 @@ std::string surface_problem(const PointCloud& cloud) {
       << "precision (write the coordinates in a smaller unit, micrometres instead of metres, say)";
     return s.str();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / static_cast<double>(n));
-  const Vec3 l = eig.eigenvalues();  // ascending
+  const Vec3 l = spread_eigenvalues(all);  // ascending
   // Collinear points leave a middle eigenvalue at rounding level only: double rounding gives ~1e-32 of the
   // largest, the single precision PCL's stages work in ~1e-14 (a spread across the line of a millionth
   // of its length). A scanned pole or wire, however thin, is wider than that by its noise.
@@ -225,16 +244,9 @@ std::string surface_problem(const PointCloud& cloud) {
     // A few far points (a glitch at 1e9) make any scan look like a line: judge the bulk then, the 90%
     // nearest its middle; outlier removal takes the rest.
     const Bulk bulk = bulk_of(cloud.points);
-    Vec3 bmean = Vec3::Zero();
-    std::size_t bn = 0;
-    for (const Vec3& p : cloud.points)
-      if (p.allFinite() && (p - bulk.centre).norm() <= bulk.radius) bmean += p, ++bn;
-    if (bn >= 3) {
-      bmean /= static_cast<double>(bn);
-      Eigen::Matrix3d bcov = Eigen::Matrix3d::Zero();
-      for (const Vec3& p : cloud.points)
-        if (p.allFinite() && (p - bulk.centre).norm() <= bulk.radius) bcov += (p - bmean) * (p - bmean).transpose();
-      const Vec3 bl = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(bcov / static_cast<double>(bn)).eigenvalues();
+    const Spread near = spread_of(cloud.points, [&](const Vec3& p) { return (p - bulk.centre).norm() <= bulk.radius; });
+    if (near.n >= 3) {
+      const Vec3 bl = spread_eigenvalues(near);
       if (bl(1) > 1e-12 * bl(2)) return "";
     }
     s << "all " << n << " points lie on one line";
