@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <random>
+
 #include "helpers.h"
 #include "scanmesh/parallel.h"
 
@@ -68,4 +72,32 @@ TEST(PointCloud, LocalOriginIsTheCentreOfTheFinitePointsBox) {
   const std::vector<Vec3> pts = {Vec3(512340.0, 4123450.0, 250.0), Vec3(nan, 1e9, 0), Vec3(512350.0, 4123470.0, 251.0),
                                  Vec3(512345.0, 4123460.0, 254.0)};
   EXPECT_EQ(scanmesh::local_origin(pts), Vec3(512345.0, 4123460.0, 252.0));
+}
+
+TEST(PointCloudShape, FirstCopiesNameTheLowestIndexAtEachPosition) {
+  // Points at 50 positions, each repeated up to 400 times in shuffled order, plus NaN and -0/+0: every
+  // point's first copy is the lowest index at its position, whatever the thread count.
+  std::mt19937 rng(4);
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 20000; ++k) pts.emplace_back(static_cast<double>(rng() % 50), 1.0, 2.0);
+  pts.emplace_back(std::nan(""), 0.0, 0.0);
+  pts.emplace_back(std::nan(""), 0.0, 0.0);
+  pts.emplace_back(-0.0, 0.0, 0.0);
+  pts.emplace_back(0.0, -0.0, 0.0);
+  for (int threads : {1, 2}) {
+    set_thread_count(threads);
+    const std::vector<std::uint32_t> first = first_copies(pts);
+    ASSERT_EQ(first.size(), pts.size());
+    std::map<double, std::uint32_t> lowest;
+    for (std::size_t i = 0; i < 20000; ++i) {
+      lowest.emplace(pts[i].x(), static_cast<std::uint32_t>(i));
+      EXPECT_EQ(first[i], lowest.at(pts[i].x())) << i;
+    }
+    EXPECT_EQ(first[20000], 20000u);  // NaN is never a copy
+    EXPECT_EQ(first[20001], 20001u);
+    EXPECT_EQ(first[20003], 20002u);  // -0 and +0 are one position
+  }
+  set_thread_count(0);
+  EXPECT_TRUE(first_copies({Vec3(1, 2, 3), Vec3(1, 2, 4)}).empty());
+  EXPECT_TRUE(first_copies({}).empty());
 }

@@ -111,3 +111,66 @@ TEST(Neighbourhoods, SpatiallyOrderedSearchGivesTheSameRowsAndCuts) {
       EXPECT_LE(differ, cap > 0 ? 600u : 0u);
     }
 }
+
+TEST(Neighbourhoods, RowsAroundAPositionManyPointsShareAreTheNearestByIndex) {
+  // 1,000 copies of one point inside a jittered grid, and 40 copies of another: the search runs over the
+  // distinct positions (a k-d tree cannot split a shared position, so the per-point search was quadratic)
+  // and each row must still be what the definition says. Uncapped: every point within the radius. Capped:
+  // the cap nearest, equally distant ones by index with the point itself first; rows of points not near
+  // the copies lose nothing. The same on one and two threads, grouped or not.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) {
+      pts.emplace_back(0.05 * i + jitter(rng), 0.05 * j + jitter(rng), 0.0);
+      if (i == 10 && j % 3 == 0)
+        for (int c = 0; c < 100; ++c) pts.emplace_back(0.5, 0.5, 0.0);  // copies spread through the array
+      if (i == 20 && j == 20)
+        for (int c = 0; c < 40; ++c) pts.emplace_back(1.0, 1.0, 0.001);
+    }
+  const double r = 0.12;
+  auto brute = [&](std::size_t i, int cap) {
+    std::vector<std::tuple<double, bool, int>> all;
+    for (std::size_t j = 0; j < pts.size(); ++j) {
+      const double d2 = (pts[j] - pts[i]).squaredNorm();
+      if (d2 <= r * r) all.emplace_back(d2, j != i, static_cast<int>(j));
+    }
+    std::sort(all.begin(), all.end());
+    if (cap > 0 && all.size() > static_cast<std::size_t>(cap)) all.resize(static_cast<std::size_t>(cap));
+    std::vector<int> row;
+    for (const auto& a : all) row.push_back(std::get<2>(a));
+    std::sort(row.begin(), row.end());
+    return row;
+  };
+  for (int cap : {0, 128}) {
+    std::size_t cut = 0;
+    const Adjacency a = radius_neighbourhoods(pts, r, cap, &cut, false);
+    std::size_t expected_cut = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const std::vector<int> want = brute(i, cap);
+      expected_cut += cap > 0 && brute(i, 0).size() > static_cast<std::size_t>(cap) ? 1 : 0;
+      ASSERT_EQ(std::vector<int>(a.begin(i), a.end(i)), want) << "row " << i << ", cap " << cap;
+    }
+    EXPECT_EQ(cut, expected_cut);
+    if (cap > 0) {
+      EXPECT_GT(cut, 1000u);
+    }
+    for (int threads : {1, 2})
+      for (bool grouped : {false, true}) {
+        set_thread_count(threads);
+        std::size_t cut2 = 0;
+        const Adjacency b = radius_neighbourhoods(pts, r, cap, &cut2, grouped);
+        EXPECT_EQ(b.offsets, a.offsets) << threads << " " << grouped;
+        EXPECT_EQ(b.indices, a.indices) << threads << " " << grouped;
+        EXPECT_EQ(cut2, cut);
+        const PackedRows packed = packed_radius_neighbourhoods(pts, r, cap, nullptr, grouped);
+        std::vector<int> row(static_cast<std::size_t>(packed.max_row()));
+        for (std::size_t i = 0; i < pts.size(); i += 7) {
+          const int len = packed.unpack(i, static_cast<int>(i), row.data());
+          EXPECT_EQ(std::vector<int>(row.begin(), row.begin() + len), std::vector<int>(a.begin(i), a.end(i)));
+        }
+      }
+    set_thread_count(0);
+  }
+}

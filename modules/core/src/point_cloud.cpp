@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace scanmesh {
 
@@ -117,13 +119,14 @@ void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
   cloud.height = 1;
 }
 
-std::size_t merge_copies(PointCloud& cloud) {
+std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& p) {
   // Positions are hashed, the points split by the hash's top bits into buckets of a few thousand (a
-  // counting sort, which keeps file order within each bucket), and each bucket deduplicated with a table
+  // counting sort, which keeps index order within each bucket), and each bucket deduplicated with a table
   // that fits the cache; coordinates are compared only where hashes agree. A sort of a scan's millions of
   // points, or one table over all of them, took seconds.
-  const std::size_t n = cloud.size();
-  const std::vector<Vec3>& p = cloud.points;
+  const std::size_t n = p.size();
+  if (n > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("first_copies: more than 2^32 points (" + std::to_string(n) + ")");
   auto bits = [](double v) {
     std::uint64_t b = 0;
     const double w = v == 0.0 ? 0.0 : v;  // -0 and +0 are one position
@@ -137,7 +140,7 @@ std::size_t merge_copies(PointCloud& cloud) {
   };
   struct Entry {
     std::uint64_t hash;
-    std::size_t index;
+    std::uint32_t index;
   };
   int bucket_bits = 0;
   while (bucket_bits < 16 && (n >> bucket_bits) > 4096) ++bucket_bits;
@@ -154,15 +157,15 @@ std::size_t merge_copies(PointCloud& cloud) {
     for (std::size_t i = 0; i < n; ++i)
       if (p[i].allFinite()) {
         const std::uint64_t h = hash(p[i]);
-        entries[fill[bucket(h)]++] = {h, i};
+        entries[fill[bucket(h)]++] = {h, static_cast<std::uint32_t>(i)};
       }
   }
-  std::vector<std::uint8_t> keep(n, 1);
-  std::size_t copies = 0;
-  const bool organized = cloud.organized();
-#pragma omp parallel reduction(+ : copies)
+  std::vector<std::uint32_t> first;  // allocated at the first copy found
+  bool any = false;
+#pragma omp parallel
   {
     std::vector<std::uint32_t> table;  // slot -> 1 + position in the bucket of the first point there
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> found;  // (copy, first)
 #pragma omp for schedule(dynamic, 16)
     for (long b = 0; b < static_cast<long>(buckets); ++b) {
       const Entry* e = entries.data() + start[b];
@@ -172,28 +175,44 @@ std::size_t merge_copies(PointCloud& cloud) {
       table.assign(slots, 0);
       for (std::size_t k = 0; k < m; ++k) {
         std::size_t s = e[k].hash & (slots - 1);
-        bool copy = false;
         for (; table[s] != 0; s = (s + 1) & (slots - 1)) {
-          const Entry& first = e[table[s] - 1];
-          if (first.hash == e[k].hash && p[first.index] == p[e[k].index]) {
-            copy = true;
-            break;
-          }
+          const Entry& f = e[table[s] - 1];
+          if (f.hash == e[k].hash && p[f.index] == p[e[k].index]) break;
         }
-        if (copy) {
-          keep[e[k].index] = 0;  // each index is in one bucket only
-          ++copies;
-          // Two pixels of a grid see along different rays, which meet only at the sensor: a position
-          // several pixels share is a marker ("no return" written as 0 0 0), the first pixel's too.
-          if (organized && keep[e[table[s] - 1].index]) keep[e[table[s] - 1].index] = 0, ++copies;
-        } else {
+        if (table[s] != 0)
+          found.emplace_back(e[k].index, e[table[s] - 1].index);
+        else
           table[s] = static_cast<std::uint32_t>(k + 1);
-        }
       }
     }
+    // Each point is in one bucket only, so the threads write different entries.
+#pragma omp critical(scanmesh_first_copies)
+    if (!found.empty() && !any) {
+      any = true;
+      first.resize(n);
+      for (std::size_t i = 0; i < n; ++i) first[i] = static_cast<std::uint32_t>(i);
+    }
+#pragma omp barrier
+    for (const auto& [copy, f] : found) first[copy] = f;
   }
-  if (copies == 0) return 0;
-  if (organized) {
+  return first;
+}
+
+std::size_t merge_copies(PointCloud& cloud) {
+  const std::vector<std::uint32_t> first = first_copies(cloud.points);
+  if (first.empty()) return 0;
+  const std::size_t n = cloud.size();
+  std::vector<std::uint8_t> keep(n, 1);
+  std::size_t copies = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (first[i] == i) continue;
+    keep[i] = 0;
+    ++copies;
+    // Two pixels of a grid see along different rays, which meet only at the sensor: a position several
+    // pixels share is a marker ("no return" written as 0 0 0), the first pixel's too.
+    if (cloud.organized() && keep[first[i]]) keep[first[i]] = 0, ++copies;
+  }
+  if (cloud.organized()) {
     for (std::size_t i = 0; i < n; ++i)
       if (!keep[i]) cloud.points[i] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   } else {

@@ -48,16 +48,126 @@ std::vector<std::size_t> close_groups(const std::vector<Vec3>& points, double ex
 // one per point, and the same rows: a row is the exact set of points within the radius either way. Where
 // the per-point search could have cut a row (more than the cap within 1.01 radii) or a group gathers too
 // many candidates (thousands of points on one spot), its points take the per-point search.
+constexpr std::size_t kBlock = std::size_t{1} << 15;  // rows handed to `take` at a time
+
+// radius_rows for points some of which share a position (`first` from first_copies): a k-d tree cannot
+// split a position many points share, so every query near it would scan all of them (100,000 copies of
+// one face took 20 s). The search runs over the distinct positions instead, and each point's row is
+// made from its position's row: the points at those positions, and with a cap the nearest of them,
+// equally distant ones by index (the point itself first among its copies).
+template <class Take>
+void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& first, double radius,
+                             int max_neighbours, std::size_t* capped, bool spatially_ordered, Take take) {
+  const std::size_t n = points.size();
+  std::vector<int> position(n);  // point -> distinct position
+  std::vector<Vec3> distinct;
+  std::vector<int> at_start(1, 0), count;  // points at each position, as a table (ascending indices)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (first[i] == i) {
+      position[i] = static_cast<int>(distinct.size());
+      distinct.push_back(points[i]);
+      count.push_back(0);
+    } else {
+      position[i] = position[first[i]];
+    }
+    ++count[static_cast<std::size_t>(position[i])];
+  }
+  for (int c : count) at_start.push_back(at_start.back() + c);
+  std::vector<int> at(n);
+  {
+    std::vector<int> fill(at_start.begin(), at_start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) at[static_cast<std::size_t>(fill[static_cast<std::size_t>(position[i])]++)] = static_cast<int>(i);
+  }
+  // With a cap, the cap nearest positions hold at least that many points.
+  const Adjacency near = radius_neighbourhoods(distinct, radius, max_neighbours, nullptr, spatially_ordered);
+  std::size_t cut = 0;
+  std::vector<std::vector<int>> rows(std::min(kBlock, n));
+  for (std::size_t start = 0; start < n; start += kBlock) {
+    const auto block = static_cast<long>(std::min(kBlock, n - start));
+#pragma omp parallel reduction(+ : cut)
+    {
+      std::vector<std::pair<double, int>> by_distance;  // (squared distance, position)
+      std::vector<int> shell;
+#pragma omp for schedule(dynamic, 256)
+      for (long r = 0; r < block; ++r) {
+        const std::size_t i = start + static_cast<std::size_t>(r);
+        const auto u = static_cast<std::size_t>(position[i]);
+        auto& row = rows[static_cast<std::size_t>(r)];
+        row.clear();
+        std::size_t total = 0;
+        for (const int* v = near.begin(u); v != near.end(u); ++v) total += static_cast<std::size_t>(count[static_cast<std::size_t>(*v)]);
+        if (max_neighbours <= 0 || total <= static_cast<std::size_t>(max_neighbours)) {
+          for (const int* v = near.begin(u); v != near.end(u); ++v)
+            row.insert(row.end(), at.begin() + at_start[static_cast<std::size_t>(*v)], at.begin() + at_start[static_cast<std::size_t>(*v) + 1]);
+          std::sort(row.begin(), row.end());
+          continue;
+        }
+        ++cut;
+        by_distance.clear();
+        for (const int* v = near.begin(u); v != near.end(u); ++v)
+          by_distance.emplace_back((distinct[static_cast<std::size_t>(*v)] - distinct[u]).squaredNorm(), *v);
+        std::sort(by_distance.begin(), by_distance.end());
+        const auto cap = static_cast<std::size_t>(max_neighbours);
+        for (std::size_t a = 0; a < by_distance.size() && row.size() < cap;) {
+          std::size_t b = a;  // [a, b): one distance
+          std::size_t points_at = 0;
+          for (; b < by_distance.size() && by_distance[b].first == by_distance[a].first; ++b)
+            points_at += static_cast<std::size_t>(count[static_cast<std::size_t>(by_distance[b].second)]);
+          const std::size_t need = cap - row.size();
+          if (points_at <= need) {
+            for (std::size_t k = a; k < b; ++k) {
+              const auto v = static_cast<std::size_t>(by_distance[k].second);
+              row.insert(row.end(), at.begin() + at_start[v], at.begin() + at_start[v + 1]);
+            }
+          } else {
+            // The lowest indices of this distance (each position's list is ascending), the point itself first.
+            shell.clear();
+            bool self = false;
+            for (std::size_t k = a; k < b; ++k) {
+              const auto v = static_cast<std::size_t>(by_distance[k].second);
+              const std::size_t m = std::min<std::size_t>(need + 1, static_cast<std::size_t>(count[v]));
+              shell.insert(shell.end(), at.begin() + at_start[v], at.begin() + at_start[v] + static_cast<long>(m));
+              self = self || v == u;
+            }
+            std::sort(shell.begin(), shell.end());
+            shell.erase(std::remove(shell.begin(), shell.end(), static_cast<int>(i)), shell.end());
+            if (self) row.push_back(static_cast<int>(i));
+            row.insert(row.end(), shell.begin(), shell.begin() + static_cast<long>(cap - row.size()));
+          }
+          a = b;
+        }
+        std::sort(row.begin(), row.end());
+      }
+    }
+    take(start, rows, static_cast<std::size_t>(block));
+  }
+  if (capped != nullptr) *capped = cut;
+}
+
+// first_copies(points) if some position is shared by more than 16 points, else empty: a few copies
+// each (a face stored twice) cost the tree little, and the search over distinct positions needs memory.
+std::vector<std::uint32_t> crowded_copies(const std::vector<Vec3>& points) {
+  std::vector<std::uint32_t> first = first_copies(points);
+  if (first.empty()) return first;
+  std::vector<std::uint32_t> copies(points.size(), 0);
+  for (std::size_t i = 0; i < first.size(); ++i)
+    if (first[i] != i && ++copies[first[i]] >= 16) return first;
+  return {};
+}
+
 template <class Take>
 void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
                  bool spatially_ordered, Take take) {
   const std::size_t n = points.size();
+  if (const std::vector<std::uint32_t> first = crowded_copies(points); !first.empty()) {
+    radius_rows_with_copies(points, first, radius, max_neighbours, capped, spatially_ordered, take);
+    return;
+  }
   // Grouped queries gather a few hundred points each: larger leaves, a faster build, the same answers.
   detail::PointTree tree(points, !spatially_ordered, spatially_ordered ? 48 : 12);
   const double r2 = radius * radius;
   const double wide2 = (1.01 * radius) * (1.01 * radius), loose2 = r2 * (1.0 + 1e-9);
   std::size_t cut = 0;
-  constexpr std::size_t kBlock = std::size_t{1} << 15;
   constexpr std::size_t kMaxCandidates = 2048;
   const std::vector<std::size_t> groups =
       spatially_ordered ? close_groups(points, 3.0 * radius, kBlock) : std::vector<std::size_t>{};

@@ -53,6 +53,11 @@ void drop_non_finite(PointCloud& cloud);
 /// split a position that many points share, so every later neighbour search around it would be quadratic.
 std::size_t merge_copies(PointCloud& cloud);
 
+/// For each point, the index of the first point at exactly its position (its own index if it is the
+/// first; -0 and +0 are one position; non-finite points are never copies), or an empty vector if no two
+/// finite points share a position. Linear time (hashed); throws std::length_error beyond 2^32 points.
+std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& points);
+
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
 
