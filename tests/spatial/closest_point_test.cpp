@@ -48,3 +48,57 @@ TEST(ClosestPoint, IndexMatchesBruteForce) {
   const Vec3 far(100, -50, 3);
   EXPECT_NEAR(index.closest(far).distance, brute_force(m, far), 1e-9);
 }
+
+TEST(ClosestPoint, FacesSharingACentroidAreAllConsidered) {
+  // A sphere, 300 copies of one of its faces (some with the corners in another order or their own
+  // vertices), and 40 different triangles sharing another face's centroid (turned about it): the index
+  // groups faces by centroid, and must still find the closest face, the lowest index of equally close
+  // copies, as a brute-force search does. Queries at one position (closest_all) answered alike.
+  Mesh m = test::make_sphere(2);
+  const std::size_t nf = m.num_faces();
+  const Face copied = m.faces[5];
+  for (int k = 0; k < 300; ++k) {
+    if (k % 3 == 0) {
+      m.faces.push_back({copied[1], copied[2], copied[0]});
+    } else if (k % 3 == 1) {
+      const int base = static_cast<int>(m.num_vertices());
+      for (int c = 0; c < 3; ++c) m.positions.push_back(m.positions[copied[c]]);
+      m.faces.push_back({base, base + 1, base + 2});
+    } else {
+      m.faces.push_back(copied);
+    }
+  }
+  const Face turned = m.faces[40];
+  const Vec3 centre = (m.positions[turned[0]] + m.positions[turned[1]] + m.positions[turned[2]]) / 3.0;
+  const Vec3 axis = (centre).normalized();
+  for (int k = 1; k <= 40; ++k) {
+    const Eigen::AngleAxisd spin(0.15 * k, axis);
+    const int base = static_cast<int>(m.num_vertices());
+    for (int c = 0; c < 3; ++c) m.positions.push_back(centre + spin * (m.positions[turned[c]] - centre));
+    m.faces.push_back({base, base + 1, base + 2});
+  }
+  ClosestPointIndex index(m);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  std::vector<Vec3> queries;
+  for (int i = 0; i < 400; ++i) queries.emplace_back(u(rng), u(rng), u(rng));
+  for (int i = 0; i < 50; ++i) queries.push_back(m.positions[copied[0]] * (1.0 + 0.002 * i));
+  for (int i = 0; i < 50; ++i) queries.push_back(centre * (1.0 + 0.002 * i));
+  queries.insert(queries.end(), 30, centre);
+  const std::vector<ClosestPointIndex::Hit> all = index.closest_all(queries);
+  ASSERT_EQ(all.size(), queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const Vec3& p = queries[i];
+    const auto hit = index.closest(p);
+    EXPECT_NEAR(hit.distance, brute_force(m, p), 1e-12) << i;
+    EXPECT_EQ(all[i].face, hit.face);
+    EXPECT_EQ(all[i].distance, hit.distance);
+    // The lowest index among the faces at that distance.
+    for (std::size_t f = 0; f < static_cast<std::size_t>(hit.face); ++f) {
+      const Face& t = m.faces[f];
+      EXPECT_GT((closest_point_on_triangle(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]) - p).norm(), hit.distance)
+          << i << " face " << f;
+    }
+    if (hit.face >= static_cast<int>(nf) && hit.face < static_cast<int>(nf) + 300) ADD_FAILURE() << "a copy of face 5 beat face 5 itself";
+  }
+}

@@ -64,8 +64,10 @@ int run_eval(const std::vector<std::string>& args) {
     std::printf("mesh:       %s\n", path.c_str());
     std::printf("topology:   %zu vertices, %zu faces, %zu edges, %zu boundary loops, %zu non-manifold edges, %zu components\n",
                 t.vertices, t.faces, t.edges, t.boundary_loops, t.nonmanifold_edges, t.components);
-    std::printf("defects:    %zu degenerate faces, %zu inconsistently oriented edges, %zu non-finite vertices\n",
-                t.degenerate_faces, t.inconsistent_edges, t.nonfinite_vertices);
+    std::printf("defects:    %zu degenerate faces, %zu inconsistently oriented edges, %zu non-finite vertices, %zu isolated vertices\n",
+                t.degenerate_faces, t.inconsistent_edges, t.nonfinite_vertices, t.isolated_vertices);
+    if (m.has_reference && t.isolated_vertices > 0)
+      std::printf("            (isolated vertices count in the distances to the reference: they lie on no face)\n");
     const auto no_q = static_cast<std::size_t>(
         std::count_if(m.face_quality.begin(), m.face_quality.end(), [](double q) { return !std::isfinite(q); }));
     if (no_q == m.face_quality.size()) {

@@ -1,8 +1,11 @@
 #include "scanmesh/geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+
+#include "scanmesh/point_cloud.h"
 
 namespace scanmesh {
 
@@ -73,6 +76,50 @@ double bbox_diagonal(const std::vector<Vec3>& positions) {
     hi = hi.cwiseMax(p);
   }
   return (hi - lo).norm();
+}
+
+std::vector<int> distinct_triangles(const Mesh& mesh) {
+  const std::size_t nf = mesh.num_faces();
+  std::vector<Vec3> centroids(nf);
+  for (std::size_t f = 0; f < nf; ++f) centroids[f] = face_centroid(mesh.positions, mesh.faces[f]);
+  const std::vector<std::uint32_t> first = first_copies(centroids);  // copies share a centroid
+  std::vector<int> kept;
+  kept.reserve(nf);
+  if (first.empty()) {
+    for (std::size_t f = 0; f < nf; ++f) kept.push_back(static_cast<int>(f));
+    return kept;
+  }
+  // Faces by centroid (ascending within each), then each centroid's faces by their sorted corners.
+  std::vector<int> start(nf + 1, 0), at(nf);
+  for (std::size_t f = 0; f < nf; ++f) ++start[first[f] + 1];
+  for (std::size_t f = 0; f < nf; ++f) start[f + 1] += start[f];
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f) at[static_cast<std::size_t>(fill[first[f]]++)] = static_cast<int>(f);
+  }
+  using Key = std::array<double, 9>;
+  auto key_of = [&](int f) {
+    std::array<Vec3, 3> c{};
+    for (int k = 0; k < 3; ++k) c[static_cast<std::size_t>(k)] = mesh.positions[mesh.faces[static_cast<std::size_t>(f)][k]] + Vec3::Zero();  // -0 as +0
+    std::sort(c.begin(), c.end(), [](const Vec3& a, const Vec3& b) { return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3); });
+    Key key{};
+    for (std::size_t k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) key[3 * k + static_cast<std::size_t>(d)] = c[k][d];
+    return key;
+  };
+  std::vector<std::uint8_t> keep(nf, 1);
+  std::vector<std::pair<Key, int>> group;
+  for (std::size_t g = 0; g < nf; ++g) {
+    if (start[g + 1] - start[g] < 2) continue;
+    group.clear();
+    for (int k = start[g]; k < start[g + 1]; ++k) group.emplace_back(key_of(at[static_cast<std::size_t>(k)]), at[static_cast<std::size_t>(k)]);
+    std::sort(group.begin(), group.end());
+    for (std::size_t k = 1; k < group.size(); ++k)
+      if (group[k].first == group[k - 1].first) keep[static_cast<std::size_t>(group[k].second)] = 0;  // not the lowest index
+  }
+  for (std::size_t f = 0; f < nf; ++f)
+    if (keep[f]) kept.push_back(static_cast<int>(f));
+  return kept;
 }
 
 }  // namespace scanmesh

@@ -119,7 +119,7 @@ void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep) {
   cloud.height = 1;
 }
 
-std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& p) {
+std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& p, std::size_t crowd) {
   // Positions are hashed, the points split by the hash's top bits into buckets of a few thousand (a
   // counting sort, which keeps index order within each bucket), and each bucket deduplicated with a table
   // that fits the cache; coordinates are compared only where hashes agree. A sort of a scan's millions of
@@ -195,7 +195,11 @@ std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& p) {
 #pragma omp barrier
     for (const auto& [copy, f] : found) first[copy] = f;
   }
-  return first;
+  if (first.empty() || crowd <= 2) return first;
+  std::vector<std::uint32_t> copies(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (first[i] != i && ++copies[first[i]] + 1 >= crowd) return first;
+  return {};
 }
 
 std::size_t merge_copies(PointCloud& cloud) {

@@ -18,11 +18,9 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Distances from every vertex of `from` to the surface `to`.
 std::vector<double> distances_to(const Mesh& from, const Mesh& to) {
-  ClosestPointIndex index(to);
-  std::vector<double> d(from.num_vertices());
-  const auto n = static_cast<long>(d.size());
-#pragma omp parallel for schedule(dynamic, 256)
-  for (long i = 0; i < n; ++i) d[i] = index.closest(from.positions[i]).distance;
+  const std::vector<ClosestPointIndex::Hit> hits = ClosestPointIndex(to).closest_all(from.positions);
+  std::vector<double> d(hits.size());
+  for (std::size_t i = 0; i < hits.size(); ++i) d[i] = hits[i].distance;
   return d;
 }
 
@@ -155,10 +153,10 @@ double nearest_face_normal_error(const Mesh& mesh, const Mesh& reference) {
   compute_face_geometry(reference.positions, reference.faces, gr);
   const auto nf = static_cast<long>(mesh.num_faces());
   std::vector<double> err(mesh.num_faces(), 0.0);
-#pragma omp parallel for schedule(dynamic, 256)
+  const std::vector<ClosestPointIndex::Hit> hits = index.closest_all(g.centroids);
+#pragma omp parallel for schedule(static)
   for (long f = 0; f < nf; ++f) {
-    const auto hit = index.closest(g.centroids[f]);
-    const double c = std::min(1.0, std::abs(g.normals[f].dot(gr.normals[hit.face])));
+    const double c = std::min(1.0, std::abs(g.normals[f].dot(gr.normals[hits[f].face])));
     err[f] = std::acos(c) * 180.0 / kPi;
   }
   double sum = 0.0;

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "flann_index.h"
+#include "scanmesh/geometry.h"
+#include "scanmesh/point_cloud.h"
 
 namespace scanmesh {
 
@@ -46,25 +48,61 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
 
 struct ClosestPointIndex::Impl {
   const Mesh& surface;
+  // The tree's points: the faces' centroids, one per face (`faces_at` empty: tree point i is face i).
+  // Where a triangle is stored more than once only its first face is kept (the lowest index wins ties
+  // anyway), and where many faces share a centroid the tree holds the distinct centroids, each with its
+  // faces in `faces_at` (ascending): a k-d tree cannot split a position many points share, and every
+  // query near them scanned them all.
   std::vector<Vec3> centroids;
-  std::vector<double> reach;  // max distance from a face's centroid to its corners
+  std::vector<int> faces_start, faces_at;
+  std::vector<double> reach;  // per tree point: max distance from it to its faces' corners
   double max_reach = 0.0;
-  detail::PointTree tree;
+  std::unique_ptr<detail::PointTree> tree;
 
-  explicit Impl(const Mesh& s) : surface(s), centroids(make_centroids(s)), tree(centroids) {
-    reach.resize(s.num_faces());
-    for (std::size_t f = 0; f < s.num_faces(); ++f) {
-      double r = 0.0;
-      for (int k = 0; k < 3; ++k) r = std::max(r, (s.positions[s.faces[f][k]] - centroids[f]).norm());
-      reach[f] = r;
-      max_reach = std::max(max_reach, r);
+  explicit Impl(const Mesh& s) : surface(s) {
+    const std::vector<int> faces = distinct_triangles(s);
+    centroids.resize(faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) centroids[i] = face_centroid(s.positions, s.faces[static_cast<std::size_t>(faces[i])]);
+    if (const std::vector<std::uint32_t> first = first_copies(centroids, 17); !first.empty()) {
+      std::vector<int> point(faces.size()), count;
+      std::vector<Vec3> distinct;
+      for (std::size_t i = 0; i < faces.size(); ++i) {
+        if (first[i] == i) {
+          point[i] = static_cast<int>(distinct.size());
+          distinct.push_back(centroids[i]);
+          count.push_back(0);
+        } else {
+          point[i] = point[first[i]];
+        }
+        ++count[static_cast<std::size_t>(point[i])];
+      }
+      faces_start.assign(1, 0);
+      for (int c : count) faces_start.push_back(faces_start.back() + c);
+      faces_at.resize(faces.size());
+      std::vector<int> fill(faces_start.begin(), faces_start.end() - 1);
+      for (std::size_t i = 0; i < faces.size(); ++i) faces_at[static_cast<std::size_t>(fill[static_cast<std::size_t>(point[i])]++)] = faces[i];
+      centroids.swap(distinct);
+    } else if (faces.size() < s.num_faces()) {
+      faces_start.resize(faces.size() + 1);
+      for (std::size_t i = 0; i <= faces.size(); ++i) faces_start[i] = static_cast<int>(i);
+      faces_at = faces;
     }
+    reach.assign(centroids.size(), 0.0);
+    for (std::size_t i = 0; i < centroids.size(); ++i) {
+      for_faces(i, [&](std::size_t f) {
+        for (int k = 0; k < 3; ++k) reach[i] = std::max(reach[i], (s.positions[s.faces[f][k]] - centroids[i]).norm());
+      });
+      max_reach = std::max(max_reach, reach[i]);
+    }
+    tree = std::make_unique<detail::PointTree>(centroids);
   }
-  static std::vector<Vec3> make_centroids(const Mesh& s) {
-    std::vector<Vec3> c(s.num_faces());
-    for (std::size_t f = 0; f < s.num_faces(); ++f)
-      c[f] = (s.positions[s.faces[f][0]] + s.positions[s.faces[f][1]] + s.positions[s.faces[f][2]]) / 3.0;
-    return c;
+  template <class F>
+  void for_faces(std::size_t i, F&& f) const {
+    if (faces_start.empty()) {
+      f(i);
+      return;
+    }
+    for (int k = faces_start[i]; k < faces_start[i + 1]; ++k) f(static_cast<std::size_t>(faces_at[static_cast<std::size_t>(k)]));
   }
   void test(const Vec3& p, std::size_t f, Hit& best) const {
     const Face& t = surface.faces[f];
@@ -87,14 +125,27 @@ ClosestPointIndex::Hit ClosestPointIndex::closest(const Vec3& p) const {
   if (impl_->centroids.empty()) return best;
   std::vector<std::size_t> idx;
   std::vector<double> d2;
-  impl_->tree.knn(p, 4, idx, d2);
-  for (std::size_t f : idx) impl_->test(p, f, best);
+  impl_->tree->knn(p, 4, idx, d2);
+  for (std::size_t i : idx) impl_->for_faces(i, [&](std::size_t f) { impl_->test(p, f, best); });
   // Any face closer than `best` has its centroid within best + reach(face) <= best + max_reach.
   const double bound = best.distance + impl_->max_reach;
-  impl_->tree.radius(p, bound * 1.0001 + 1e-300, idx);
-  for (std::size_t f : idx)
-    if ((impl_->centroids[f] - p).norm() <= best.distance + impl_->reach[f] + 1e-12 * bound) impl_->test(p, f, best);
+  impl_->tree->radius(p, bound * 1.0001 + 1e-300, idx);
+  for (std::size_t i : idx)
+    if ((impl_->centroids[i] - p).norm() <= best.distance + impl_->reach[i] + 1e-12 * bound)
+      impl_->for_faces(i, [&](std::size_t f) { impl_->test(p, f, best); });
   return best;
+}
+
+std::vector<ClosestPointIndex::Hit> ClosestPointIndex::closest_all(const std::vector<Vec3>& queries) const {
+  const std::vector<std::uint32_t> first = first_copies(queries);
+  std::vector<Hit> hits(queries.size());
+  const auto n = static_cast<long>(queries.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long i = 0; i < n; ++i)
+    if (first.empty() || first[static_cast<std::size_t>(i)] == static_cast<std::uint32_t>(i)) hits[i] = closest(queries[i]);
+  if (!first.empty())
+    for (std::size_t i = 0; i < hits.size(); ++i) hits[i] = hits[first[i]];  // first[i] <= i: already answered
+  return hits;
 }
 
 }  // namespace scanmesh

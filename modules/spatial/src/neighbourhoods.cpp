@@ -49,6 +49,9 @@ std::vector<std::size_t> close_groups(const std::vector<Vec3>& points, double ex
 // the per-point search could have cut a row (more than the cap within 1.01 radii) or a group gathers too
 // many candidates (thousands of points on one spot), its points take the per-point search.
 constexpr std::size_t kBlock = std::size_t{1} << 15;  // rows handed to `take` at a time
+// Points sharing a position before the search goes by position: a few copies each (a face stored twice)
+// cost the tree little, and the search by position needs memory.
+constexpr std::size_t kCrowd = 17;
 
 // radius_rows for points some of which share a position (`first` from first_copies): a k-d tree cannot
 // split a position many points share, so every query near it would scan all of them (100,000 copies of
@@ -144,22 +147,11 @@ void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<
   if (capped != nullptr) *capped = cut;
 }
 
-// first_copies(points) if some position is shared by more than 16 points, else empty: a few copies
-// each (a face stored twice) cost the tree little, and the search over distinct positions needs memory.
-std::vector<std::uint32_t> crowded_copies(const std::vector<Vec3>& points) {
-  std::vector<std::uint32_t> first = first_copies(points);
-  if (first.empty()) return first;
-  std::vector<std::uint32_t> copies(points.size(), 0);
-  for (std::size_t i = 0; i < first.size(); ++i)
-    if (first[i] != i && ++copies[first[i]] >= 16) return first;
-  return {};
-}
-
 template <class Take>
 void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
                  bool spatially_ordered, Take take) {
   const std::size_t n = points.size();
-  if (const std::vector<std::uint32_t> first = crowded_copies(points); !first.empty()) {
+  if (const std::vector<std::uint32_t> first = first_copies(points, kCrowd); !first.empty()) {
     radius_rows_with_copies(points, first, radius, max_neighbours, capped, spatially_ordered, take);
     return;
   }

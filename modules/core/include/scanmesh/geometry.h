@@ -46,4 +46,9 @@ Vec3 vertex_normal(const Topology& topology, const FaceGeometry& geometry, std::
 /// Axis-aligned bounding-box diagonal length of the positions (0 if fewer than two points).
 double bbox_diagonal(const std::vector<Vec3>& positions);
 
+/// The faces whose triangle is not an exact copy of an earlier face's (the same three corner positions
+/// in any order, whether or not they share vertices), ascending. Searches that only need the surface
+/// (closest points, ray hits) skip the copies, which a spatial index cannot separate.
+std::vector<int> distinct_triangles(const Mesh& mesh);
+
 }  // namespace scanmesh

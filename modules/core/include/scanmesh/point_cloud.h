@@ -54,9 +54,11 @@ void drop_non_finite(PointCloud& cloud);
 std::size_t merge_copies(PointCloud& cloud);
 
 /// For each point, the index of the first point at exactly its position (its own index if it is the
-/// first; -0 and +0 are one position; non-finite points are never copies), or an empty vector if no two
-/// finite points share a position. Linear time (hashed); throws std::length_error beyond 2^32 points.
-std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& points);
+/// first; -0 and +0 are one position; non-finite points are never copies), or an empty vector if no
+/// position is shared by `crowd` points or more (by default: if no two finite points share one). Linear
+/// time (hashed); throws std::length_error beyond 2^32 points. A k-d tree cannot split a position many
+/// points share: searches near it scan them all, so searches over crowded points go by position.
+std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& points, std::size_t crowd = 2);
 
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);

@@ -27,6 +27,9 @@ class ClosestPointIndex {
   };
   /// Thread-safe (const).
   [[nodiscard]] Hit closest(const Vec3& p) const;
+  /// closest() for each query, in parallel; queries at one position are answered once (a mesh's copies
+  /// of a vertex or face, which could each cost a scan of every overlapping face).
+  [[nodiscard]] std::vector<Hit> closest_all(const std::vector<Vec3>& queries) const;
 
  private:
   struct Impl;
