@@ -102,3 +102,42 @@ TEST(ClosestPoint, FacesSharingACentroidAreAllConsidered) {
     if (hit.face >= static_cast<int>(nf) && hit.face < static_cast<int>(nf) + 300) ADD_FAILURE() << "a copy of face 5 beat face 5 itself";
   }
 }
+
+TEST(ClosestPoint, LongThinFacesMatchBruteForce) {
+  // A fan of 2,000 spokes (every face long and thin, every box overlapping its neighbours') and a few
+  // needles across it: queries on and off the fan, at the centre every face is at distance 0 and the
+  // lowest index wins.
+  Mesh m;
+  const int n = 2000;
+  m.positions.emplace_back(0, 0, 0);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * i / n;
+    m.positions.emplace_back(std::cos(a), std::sin(a), 0.001 * std::sin(5 * a));
+  }
+  for (int i = 0; i < n; ++i) m.faces.push_back({0, 1 + i, 1 + (i + 1) % n});
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  for (int k = 0; k < 50; ++k) {
+    const int base = static_cast<int>(m.num_vertices());
+    const Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    m.positions.push_back(a);
+    m.positions.push_back(b);
+    m.positions.push_back(a + Vec3(1e-3, 0, 0));
+    m.faces.push_back({base, base + 1, base + 2});
+  }
+  ClosestPointIndex index(m);
+  std::vector<Vec3> queries(m.positions.begin(), m.positions.begin() + 200);
+  for (int i = 0; i < 300; ++i) queries.emplace_back(u(rng), u(rng), 0.2 * u(rng));
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const Vec3& p = queries[i];
+    const auto hit = index.closest(p);
+    EXPECT_NEAR(hit.distance, brute_force(m, p), 1e-12) << i;
+    int lowest = -1;
+    for (std::size_t f = 0; f < m.num_faces() && lowest < 0; ++f) {
+      const Face& t = m.faces[f];
+      if ((closest_point_on_triangle(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]) - p).norm() == hit.distance) lowest = static_cast<int>(f);
+    }
+    EXPECT_EQ(hit.face, lowest) << i;
+  }
+  EXPECT_EQ(index.closest(Vec3(0, 0, 0)).face, 0);
+}

@@ -3,11 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
-#include "flann_index.h"
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+
 #include "scanmesh/geometry.h"
 #include "scanmesh/point_cloud.h"
 
 namespace scanmesh {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
 
 // Region-based closest point on a triangle (Voronoi regions of vertices, edges, face), as in
 // Ericson, "Real-Time Collision Detection", 5.1.5; degenerate triangles fall through to the edges.
@@ -47,63 +52,28 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
 }
 
 struct ClosestPointIndex::Impl {
+  using Point = bg::model::point<double, 3, bg::cs::cartesian>;
+  using Box = bg::model::box<Point>;
+  using Entry = std::pair<Box, int>;  // a face's bounding box and the face
   const Mesh& surface;
-  // The tree's points: the faces' centroids, one per face (`faces_at` empty: tree point i is face i).
-  // Where a triangle is stored more than once only its first face is kept (the lowest index wins ties
-  // anyway), and where many faces share a centroid the tree holds the distinct centroids, each with its
-  // faces in `faces_at` (ascending): a k-d tree cannot split a position many points share, and every
-  // query near them scanned them all.
-  std::vector<Vec3> centroids;
-  std::vector<int> faces_start, faces_at;
-  std::vector<double> reach;  // per tree point: max distance from it to its faces' corners
-  double max_reach = 0.0;
-  std::unique_ptr<detail::PointTree> tree;
+  // An R-tree over the faces' boxes, searched nearest box first until the boxes are farther than the
+  // closest face found. (A k-d tree over face centroids, searched within the closest distance plus the
+  // largest centroid-to-corner reach, scanned every face near a query as soon as one triangle was long:
+  // a fan of 200,000 spokes against itself ran past a minute.) A triangle stored more than once is
+  // entered once, its first face (the lowest index wins ties anyway).
+  bgi::rtree<Entry, bgi::rstar<16>> tree;
 
-  explicit Impl(const Mesh& s) : surface(s) {
-    const std::vector<int> faces = distinct_triangles(s);
-    centroids.resize(faces.size());
-    for (std::size_t i = 0; i < faces.size(); ++i) centroids[i] = face_centroid(s.positions, s.faces[static_cast<std::size_t>(faces[i])]);
-    if (const std::vector<std::uint32_t> first = first_copies(centroids, 17); !first.empty()) {
-      std::vector<int> point(faces.size()), count;
-      std::vector<Vec3> distinct;
-      for (std::size_t i = 0; i < faces.size(); ++i) {
-        if (first[i] == i) {
-          point[i] = static_cast<int>(distinct.size());
-          distinct.push_back(centroids[i]);
-          count.push_back(0);
-        } else {
-          point[i] = point[first[i]];
-        }
-        ++count[static_cast<std::size_t>(point[i])];
-      }
-      faces_start.assign(1, 0);
-      for (int c : count) faces_start.push_back(faces_start.back() + c);
-      faces_at.resize(faces.size());
-      std::vector<int> fill(faces_start.begin(), faces_start.end() - 1);
-      for (std::size_t i = 0; i < faces.size(); ++i) faces_at[static_cast<std::size_t>(fill[static_cast<std::size_t>(point[i])]++)] = faces[i];
-      centroids.swap(distinct);
-    } else if (faces.size() < s.num_faces()) {
-      faces_start.resize(faces.size() + 1);
-      for (std::size_t i = 0; i <= faces.size(); ++i) faces_start[i] = static_cast<int>(i);
-      faces_at = faces;
+  static std::vector<Entry> boxes(const Mesh& s) {
+    std::vector<Entry> e;
+    for (int f : distinct_triangles(s)) {
+      const Face& t = s.faces[static_cast<std::size_t>(f)];
+      Vec3 lo = s.positions[t[0]], hi = lo;
+      for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(s.positions[t[k]]), hi = hi.cwiseMax(s.positions[t[k]]);
+      e.emplace_back(Box(Point(lo.x(), lo.y(), lo.z()), Point(hi.x(), hi.y(), hi.z())), f);
     }
-    reach.assign(centroids.size(), 0.0);
-    for (std::size_t i = 0; i < centroids.size(); ++i) {
-      for_faces(i, [&](std::size_t f) {
-        for (int k = 0; k < 3; ++k) reach[i] = std::max(reach[i], (s.positions[s.faces[f][k]] - centroids[i]).norm());
-      });
-      max_reach = std::max(max_reach, reach[i]);
-    }
-    tree = std::make_unique<detail::PointTree>(centroids);
+    return e;
   }
-  template <class F>
-  void for_faces(std::size_t i, F&& f) const {
-    if (faces_start.empty()) {
-      f(i);
-      return;
-    }
-    for (int k = faces_start[i]; k < faces_start[i + 1]; ++k) f(static_cast<std::size_t>(faces_at[static_cast<std::size_t>(k)]));
-  }
+  explicit Impl(const Mesh& s) : surface(s), tree(boxes(s)) {}  // packed (bulk) build
   void test(const Vec3& p, std::size_t f, Hit& best) const {
     const Face& t = surface.faces[f];
     const Vec3 q = closest_point_on_triangle(p, surface.positions[t[0]], surface.positions[t[1]], surface.positions[t[2]]);
@@ -122,17 +92,24 @@ ClosestPointIndex::~ClosestPointIndex() = default;
 
 ClosestPointIndex::Hit ClosestPointIndex::closest(const Vec3& p) const {
   Hit best;
-  if (impl_->centroids.empty()) return best;
-  std::vector<std::size_t> idx;
-  std::vector<double> d2;
-  impl_->tree->knn(p, 4, idx, d2);
-  for (std::size_t i : idx) impl_->for_faces(i, [&](std::size_t f) { impl_->test(p, f, best); });
-  // Any face closer than `best` has its centroid within best + reach(face) <= best + max_reach.
-  const double bound = best.distance + impl_->max_reach;
-  impl_->tree->radius(p, bound * 1.0001 + 1e-300, idx);
-  for (std::size_t i : idx)
-    if ((impl_->centroids[i] - p).norm() <= best.distance + impl_->reach[i] + 1e-12 * bound)
-      impl_->for_faces(i, [&](std::size_t f) { impl_->test(p, f, best); });
+  const std::size_t n = impl_->tree.size();
+  if (n == 0) return best;
+  const Impl::Point q(p.x(), p.y(), p.z());
+  // The k nearest boxes, k growing fourfold until the farthest of them lies beyond the closest face
+  // found: then so does every other box. Equal distances are tested too (the lower face index wins a
+  // tie), with a margin for rounding. (Boost's incremental nearest-first iterator was far slower.)
+  std::vector<Impl::Entry> near;
+  for (std::size_t k = 8, tested = 0;; k *= 4) {
+    near.clear();
+    impl_->tree.query(bgi::nearest(q, static_cast<unsigned>(std::min(k, n))), std::back_inserter(near));
+    double farthest = 0.0;
+    for (const Impl::Entry& e : near) {
+      farthest = std::max(farthest, bg::comparable_distance(q, e.first));
+      impl_->test(p, static_cast<std::size_t>(e.second), best);
+    }
+    tested = near.size();
+    if (tested >= n || farthest > best.distance * best.distance * (1.0 + 1e-12)) break;
+  }
   return best;
 }
 

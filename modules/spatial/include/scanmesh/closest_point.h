@@ -1,5 +1,5 @@
 #pragma once
-// Exact closest points on a triangle mesh, accelerated by a FLANN k-d tree over face centroids.
+// Exact closest points on a triangle mesh, accelerated by an R-tree over the faces' bounding boxes.
 #include <memory>
 #include <vector>
 
@@ -10,9 +10,9 @@ namespace scanmesh {
 /// Closest point on triangle (a, b, c) to p (exact, handles degenerate triangles).
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
-/// Answers "which point of the surface is closest to p" exactly. A query first takes the nearest face
-/// centroids for an upper bound d on the distance; every face that can be closer has its centroid within
-/// d + (that face's centroid-to-corner radius), so a radius search with d + max radius finds them all.
+/// Answers "which point of the surface is closest to p" exactly (ties: the lowest face index). A query
+/// visits the faces' bounding boxes nearest first and stops at the first box farther than the closest
+/// face found; long, thin or overlapping faces cost only the queries that come near them.
 class ClosestPointIndex {
  public:
   explicit ClosestPointIndex(const Mesh& surface);
