@@ -219,21 +219,14 @@ TEST_F(Hostile, ManyCopiesOfOneFaceBesideASurface) {
   const int copies = 30000;
 #endif
   const int n = 30;
-  std::string text = "OFF\n" + std::to_string(n * n + 3 * copies) + " " + std::to_string(2 * (n - 1) * (n - 1) + copies) + " 0\n";
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) text += std::to_string(i) + " " + std::to_string(j) + " 0\n";
-  for (int c = 0; c < copies; ++c) text += "0 0 0\n29 0 0\n0 29 0\n";  // over half the grid
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      const int v = j * n + i;
-      text += "3 " + std::to_string(v) + " " + std::to_string(v + 1) + " " + std::to_string(v + n) + "\n";
-      text += "3 " + std::to_string(v + 1) + " " + std::to_string(v + n + 1) + " " + std::to_string(v + n) + "\n";
-    }
-  for (int c = 0; c < copies; ++c) {
-    const int v = n * n + 3 * c;
-    text += "3 " + std::to_string(v) + " " + std::to_string(v + 1) + " " + std::to_string(v + 2) + "\n";
+  scanmesh::Mesh m = scanmesh::test::make_grid(n - 1);
+  for (int c = 0; c < copies; ++c) {  // over half the grid
+    const int v = static_cast<int>(m.num_vertices());
+    m.positions.insert(m.positions.end(), {{0, 0, 0}, {n - 1.0, 0, 0}, {0, n - 1.0, 0}});
+    m.faces.push_back({v, v + 1, v + 2});
   }
-  const std::string file = write("copies.off", text);
+  const std::string file = path("copies.off");
+  scanmesh::write_mesh(m, file);
   const Outcome d = run_scanmesh({"denoise", file, path("out.ply")}, path("err"), 60.0);
   EXPECT_EQ(d.signal, 0) << "killed: a hang";
   EXPECT_EQ(d.exit_code, 0) << d.err;
@@ -263,15 +256,15 @@ TEST_F(Hostile, AFanOfLongThinFacesIsEvaluatedAgainstItself) {
 #else
   const int n = 100000;
 #endif
-  std::string text = "OFF\n" + std::to_string(n + 1) + " " + std::to_string(n) + " 0\n0 0 0\n";
-  char line[96];
+  scanmesh::Mesh m;
+  m.positions.emplace_back(0, 0, 0);
   for (int i = 0; i < n; ++i) {
     const double a = 2.0 * 3.14159265358979323846 * i / n;
-    std::snprintf(line, sizeof line, "%.12f %.12f 0\n", std::cos(a), std::sin(a));
-    text += line;
+    m.positions.emplace_back(std::cos(a), std::sin(a), 0.0);
   }
-  for (int i = 0; i < n; ++i) text += "3 0 " + std::to_string(1 + i) + " " + std::to_string(1 + (i + 1) % n) + "\n";
-  const std::string file = write("fan.off", text);
+  for (int i = 0; i < n; ++i) m.faces.push_back({0, 1 + i, 1 + (i + 1) % n});
+  const std::string file = path("fan.off");
+  scanmesh::write_mesh(m, file);
   const Outcome e = run_scanmesh({"eval", file, "--reference", file, "--json", path("eval.json")}, path("err"), 30.0);
   EXPECT_EQ(e.signal, 0) << "killed: a hang";
   EXPECT_EQ(e.exit_code, 0) << e.err;

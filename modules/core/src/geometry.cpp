@@ -89,14 +89,8 @@ std::vector<int> distinct_triangles(const Mesh& mesh) {
     for (std::size_t f = 0; f < nf; ++f) kept.push_back(static_cast<int>(f));
     return kept;
   }
-  // Faces by centroid (ascending within each), then each centroid's faces by their sorted corners.
-  std::vector<int> start(nf + 1, 0), at(nf);
-  for (std::size_t f = 0; f < nf; ++f) ++start[first[f] + 1];
-  for (std::size_t f = 0; f < nf; ++f) start[f + 1] += start[f];
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f) at[static_cast<std::size_t>(fill[first[f]]++)] = static_cast<int>(f);
-  }
+  // Each centroid's faces (ascending) by their sorted corners.
+  const CopyGroups groups = group_copies(first);
   using Key = std::array<double, 9>;
   auto key_of = [&](int f) {
     std::array<Vec3, 3> c{};
@@ -109,10 +103,13 @@ std::vector<int> distinct_triangles(const Mesh& mesh) {
   };
   std::vector<std::uint8_t> keep(nf, 1);
   std::vector<std::pair<Key, int>> group;
-  for (std::size_t g = 0; g < nf; ++g) {
-    if (start[g + 1] - start[g] < 2) continue;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (groups.count(g) < 2) continue;
     group.clear();
-    for (int k = start[g]; k < start[g + 1]; ++k) group.emplace_back(key_of(at[static_cast<std::size_t>(k)]), at[static_cast<std::size_t>(k)]);
+    for (int k = groups.start[g]; k < groups.start[g + 1]; ++k) {
+      const int f = groups.members[static_cast<std::size_t>(k)];
+      group.emplace_back(key_of(f), f);
+    }
     std::sort(group.begin(), group.end());
     for (std::size_t k = 1; k < group.size(); ++k)
       if (group[k].first == group[k - 1].first) keep[static_cast<std::size_t>(group[k].second)] = 0;  // not the lowest index

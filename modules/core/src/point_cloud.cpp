@@ -202,6 +202,27 @@ std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& p, std::size_t 
   return {};
 }
 
+CopyGroups group_copies(const std::vector<std::uint32_t>& first) {
+  const std::size_t n = first.size();
+  CopyGroups c;
+  c.group_of.resize(n);
+  c.start.assign(1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (first[i] == i) {
+      c.group_of[i] = static_cast<int>(c.start.size() - 1);
+      c.start.push_back(0);
+    } else {
+      c.group_of[i] = c.group_of[first[i]];  // first[i] < i: grouped already
+    }
+    ++c.start[static_cast<std::size_t>(c.group_of[i]) + 1];
+  }
+  for (std::size_t g = 1; g < c.start.size(); ++g) c.start[g] += c.start[g - 1];
+  c.members.resize(n);
+  std::vector<int> fill(c.start.begin(), c.start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) c.members[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.group_of[i])]++)] = static_cast<int>(i);
+  return c;
+}
+
 std::size_t merge_copies(PointCloud& cloud) {
   const std::vector<std::uint32_t> first = first_copies(cloud.points);
   if (first.empty()) return 0;

@@ -99,7 +99,7 @@ ClosestPointIndex::Hit ClosestPointIndex::closest(const Vec3& p) const {
   // found: then so does every other box. Equal distances are tested too (the lower face index wins a
   // tie), with a margin for rounding. (Boost's incremental nearest-first iterator was far slower.)
   std::vector<Impl::Entry> near;
-  for (std::size_t k = 8, tested = 0;; k *= 4) {
+  for (std::size_t k = 8;; k *= 4) {
     near.clear();
     impl_->tree.query(bgi::nearest(q, static_cast<unsigned>(std::min(k, n))), std::back_inserter(near));
     double farthest = 0.0;
@@ -107,8 +107,7 @@ ClosestPointIndex::Hit ClosestPointIndex::closest(const Vec3& p) const {
       farthest = std::max(farthest, bg::comparable_distance(q, e.first));
       impl_->test(p, static_cast<std::size_t>(e.second), best);
     }
-    tested = near.size();
-    if (tested >= n || farthest > best.distance * best.distance * (1.0 + 1e-12)) break;
+    if (near.size() >= n || farthest > best.distance * best.distance * (1.0 + 1e-12)) break;
   }
   return best;
 }

@@ -36,18 +36,6 @@ std::vector<std::size_t> close_groups(const std::vector<Vec3>& points, double ex
   return starts;
 }
 
-// The rows of radius_neighbourhoods, handed to `take(first_row, rows, count)` a block at a time (so the
-// rows in flight stay small next to the caller's compact table). Each thread searches with its own result
-// set and each row's vector keeps its capacity from block to block, so the search allocates nothing once
-// it has warmed up (FLANN's batched radiusSearch allocated an index and a distance vector per query and
-// scaled worse on two threads).
-//
-// Points in a spatial order are searched a group at a time: one tree query gathers every point within
-// reach of a group of close points (at most 64, spanning at most 3 radii), and each point of the group
-// picks its own from those candidates in double precision. That is one tree descent per group instead of
-// one per point, and the same rows: a row is the exact set of points within the radius either way. Where
-// the per-point search could have cut a row (more than the cap within 1.01 radii) or a group gathers too
-// many candidates (thousands of points on one spot), its points take the per-point search.
 constexpr std::size_t kBlock = std::size_t{1} << 15;  // rows handed to `take` at a time
 // Points sharing a position before the search goes by position: a few copies each (a face stored twice)
 // cost the tree little, and the search by position needs memory.
@@ -62,25 +50,11 @@ template <class Take>
 void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& first, double radius,
                              int max_neighbours, std::size_t* capped, bool spatially_ordered, Take take) {
   const std::size_t n = points.size();
-  std::vector<int> position(n);  // point -> distinct position
-  std::vector<Vec3> distinct;
-  std::vector<int> at_start(1, 0), count;  // points at each position, as a table (ascending indices)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (first[i] == i) {
-      position[i] = static_cast<int>(distinct.size());
-      distinct.push_back(points[i]);
-      count.push_back(0);
-    } else {
-      position[i] = position[first[i]];
-    }
-    ++count[static_cast<std::size_t>(position[i])];
-  }
-  for (int c : count) at_start.push_back(at_start.back() + c);
-  std::vector<int> at(n);
-  {
-    std::vector<int> fill(at_start.begin(), at_start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) at[static_cast<std::size_t>(fill[static_cast<std::size_t>(position[i])]++)] = static_cast<int>(i);
-  }
+  const CopyGroups groups = group_copies(first);
+  const std::vector<int>& at = groups.members;
+  const std::vector<int>& at_start = groups.start;
+  std::vector<Vec3> distinct(groups.size());
+  for (std::size_t g = 0; g < groups.size(); ++g) distinct[g] = points[static_cast<std::size_t>(groups.first_of(g))];
   // With a cap, the cap nearest positions hold at least that many points.
   const Adjacency near = radius_neighbourhoods(distinct, radius, max_neighbours, nullptr, spatially_ordered);
   std::size_t cut = 0;
@@ -94,11 +68,11 @@ void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<
 #pragma omp for schedule(dynamic, 256)
       for (long r = 0; r < block; ++r) {
         const std::size_t i = start + static_cast<std::size_t>(r);
-        const auto u = static_cast<std::size_t>(position[i]);
+        const auto u = static_cast<std::size_t>(groups.group_of[i]);
         auto& row = rows[static_cast<std::size_t>(r)];
         row.clear();
         std::size_t total = 0;
-        for (const int* v = near.begin(u); v != near.end(u); ++v) total += static_cast<std::size_t>(count[static_cast<std::size_t>(*v)]);
+        for (const int* v = near.begin(u); v != near.end(u); ++v) total += static_cast<std::size_t>(groups.count(static_cast<std::size_t>(*v)));
         if (max_neighbours <= 0 || total <= static_cast<std::size_t>(max_neighbours)) {
           for (const int* v = near.begin(u); v != near.end(u); ++v)
             row.insert(row.end(), at.begin() + at_start[static_cast<std::size_t>(*v)], at.begin() + at_start[static_cast<std::size_t>(*v) + 1]);
@@ -115,7 +89,7 @@ void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<
           std::size_t b = a;  // [a, b): one distance
           std::size_t points_at = 0;
           for (; b < by_distance.size() && by_distance[b].first == by_distance[a].first; ++b)
-            points_at += static_cast<std::size_t>(count[static_cast<std::size_t>(by_distance[b].second)]);
+            points_at += static_cast<std::size_t>(groups.count(static_cast<std::size_t>(by_distance[b].second)));
           const std::size_t need = cap - row.size();
           if (points_at <= need) {
             for (std::size_t k = a; k < b; ++k) {
@@ -128,7 +102,7 @@ void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<
             bool self = false;
             for (std::size_t k = a; k < b; ++k) {
               const auto v = static_cast<std::size_t>(by_distance[k].second);
-              const std::size_t m = std::min<std::size_t>(need + 1, static_cast<std::size_t>(count[v]));
+              const std::size_t m = std::min<std::size_t>(need + 1, static_cast<std::size_t>(groups.count(v)));
               shell.insert(shell.end(), at.begin() + at_start[v], at.begin() + at_start[v] + static_cast<long>(m));
               self = self || v == u;
             }
@@ -147,6 +121,18 @@ void radius_rows_with_copies(const std::vector<Vec3>& points, const std::vector<
   if (capped != nullptr) *capped = cut;
 }
 
+// The rows of radius_neighbourhoods, handed to `take(first_row, rows, count)` a block at a time (so the
+// rows in flight stay small next to the caller's compact table). Each thread searches with its own result
+// set and each row's vector keeps its capacity from block to block, so the search allocates nothing once
+// it has warmed up (FLANN's batched radiusSearch allocated an index and a distance vector per query and
+// scaled worse on two threads).
+//
+// Points in a spatial order are searched a group at a time: one tree query gathers every point within
+// reach of a group of close points (at most 64, spanning at most 3 radii), and each point of the group
+// picks its own from those candidates in double precision. That is one tree descent per group instead of
+// one per point, and the same rows: a row is the exact set of points within the radius either way. Where
+// the per-point search could have cut a row (more than the cap within 1.01 radii) or a group gathers too
+// many candidates (thousands of points on one spot), its points take the per-point search.
 template <class Take>
 void radius_rows(const std::vector<Vec3>& points, double radius, int max_neighbours, std::size_t* capped,
                  bool spatially_ordered, Take take) {

@@ -60,6 +60,17 @@ std::size_t merge_copies(PointCloud& cloud);
 /// points share: searches near it scan them all, so searches over crowded points go by position.
 std::vector<std::uint32_t> first_copies(const std::vector<Vec3>& points, std::size_t crowd = 2);
 
+/// Points grouped by position (`first` from first_copies, non-empty): group g holds the points
+/// members[start[g], start[g + 1]), ascending, its first point first; groups in the order of their first
+/// points; group_of[i] is point i's group.
+struct CopyGroups {
+  std::vector<int> group_of, start, members;
+  [[nodiscard]] std::size_t size() const { return start.size() - 1; }
+  [[nodiscard]] int count(std::size_t g) const { return start[g + 1] - start[g]; }
+  [[nodiscard]] int first_of(std::size_t g) const { return members[static_cast<std::size_t>(start[g])]; }
+};
+CopyGroups group_copies(const std::vector<std::uint32_t>& first);
+
 /// Keeps the points whose flag is set (attributes follow); the result is unorganized.
 void keep_points(PointCloud& cloud, const std::vector<std::uint8_t>& keep);
 
