@@ -172,6 +172,17 @@ TEST(Topology, EqualsAPlainBuildOnAHostileSoupForAnyThreadCount) {
     EXPECT_EQ(rows_of(t.edge_faces), r.edge_faces);
     EXPECT_EQ(t.face_edges, r.face_edges);
     EXPECT_EQ(rows_of(t.face_faces), r.face_faces);
+    // A caller that released the two neighbour tables (or built without face_faces) rebuilds them the same.
+    Topology light = build_topology(m, false);
+    ASSERT_EQ(light.face_faces.rows(), 0u);
+    std::vector<int>().swap(light.vertex_vertices.indices);
+    light.vertex_vertices.offsets.assign(1, 0);
+    add_vertex_vertices(light);
+    std::vector<std::array<int, 3>>().swap(light.face_edges);  // not needed for it
+    add_face_faces(light, m.num_faces());
+    EXPECT_EQ(rows_of(light.vertex_vertices), r.vertex_vertices);
+    EXPECT_EQ(rows_of(light.face_faces), r.face_faces);
+    EXPECT_EQ(light.face_faces.offsets, t.face_faces.offsets);
   }
 }
 

@@ -340,6 +340,68 @@ TEST(Denoise, RunsSharingACacheOnAnOpenMeshMatchUncachedRuns) {
   }
 }
 
+TEST(Denoise, ACachedTopologyServesConnectedBallRunsToo) {
+  // prefiltered_normals() caches the connectivity without face -> face links (ball neighbourhoods do not
+  // read them); a connected-ball run that takes it, or a copy of it, adds them: same bits as uncached.
+  Mesh noisy = test::make_cap(12, 40, 1.2);
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(noisy, n);
+  DenoiseOptions o;
+  o.iterations = 6;
+  o.neighbourhood = NeighbourhoodKind::connected_ball;
+  Mesh plain = noisy;
+  denoise(plain, o);
+  for (bool keep : {true, false}) {
+    DenoiseCache cache;
+    prefiltered_normals(noisy, 3.0, 2.0, 4, &cache);
+    cache.keep_topology(keep);
+    for (int run = 0; run < 2; ++run) {
+      Mesh cached = noisy;
+      denoise(cached, o, {}, {}, &cache);
+      ASSERT_EQ(std::memcmp(cached.positions.data(), plain.positions.data(), plain.positions.size() * sizeof(Vec3)), 0) << keep << run;
+    }
+  }
+}
+
+TEST(Denoise, AnObserverGetsThePositionsWhileTheMeshKeepsItsFaces) {
+  // During the run the caller's positions are set aside (a large mesh is not held twice) and its faces
+  // stay readable; the observer's positions are the run's, in the caller's order and units.
+  Mesh noisy = test::make_sphere(3);
+  for (auto& p : noisy.positions) p = 40.0 * p + Vec3(3, -2, 7);  // not at unit scale
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(noisy, n);
+  DenoiseOptions o;
+  o.iterations = 4;
+  Mesh plain = noisy;
+  denoise(plain, o);
+  Mesh watched = noisy;
+  std::vector<Vec3> last;
+  int calls = 0;
+  const DenoiseReport r = denoise(watched, o, {}, [&](int it, const std::vector<Vec3>& pos) {
+    ++calls;
+    EXPECT_EQ(it, calls);
+    EXPECT_EQ(watched.faces, noisy.faces);
+    EXPECT_TRUE(watched.positions.empty());
+    last = pos;
+    return true;
+  });
+  EXPECT_EQ(calls, 4);
+  EXPECT_EQ(r.iterations, 4);
+  EXPECT_EQ(watched.positions, plain.positions);
+  EXPECT_EQ(last, plain.positions);
+  EXPECT_EQ(watched.faces, noisy.faces);
+  // Stopped by the observer: the positions of the iteration it stopped at.
+  Mesh stopped = noisy;
+  denoise(stopped, o, {}, [&](int it, const std::vector<Vec3>& pos) {
+    last = pos;
+    return it < 2;
+  });
+  EXPECT_EQ(stopped.positions, last);
+  EXPECT_NE(stopped.positions, plain.positions);
+}
+
 TEST(Denoise, TheResultDoesNotDependOnTheOrderOfFacesAndVertices) {
   // The denoiser works in its own spatial order; the caller's order must come back, and shuffling the
   // input may change only the rounding (faces at one Morton code are ordered by index), plus an

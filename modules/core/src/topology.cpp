@@ -37,6 +37,48 @@ std::size_t Topology::num_nonmanifold_edges() const {
   return n;
 }
 
+void add_vertex_vertices(Topology& t) {
+  // Row v gets the smaller ends c of edges (c, v) in ascending order, then the larger ends of edges (v, b)
+  // in ascending order: sorted and without repeats as filled. Self-loops of degenerate faces are skipped.
+  auto& a = t.vertex_vertices;
+  a.offsets.assign(t.vertex_faces.rows() + 1, 0);
+  a.indices.clear();
+  for (const auto& [p, q] : t.edges)
+    if (p != q) ++a.offsets[p + 1], ++a.offsets[q + 1];
+  std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
+  a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
+  std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
+  for (const auto& [p, q] : t.edges)
+    if (p != q) {
+      a.indices[static_cast<std::size_t>(fill[p]++)] = q;
+      a.indices[static_cast<std::size_t>(fill[q]++)] = p;
+    }
+}
+
+void add_face_faces(Topology& t, std::size_t num_faces) {
+  // Across a non-manifold edge (k > 2 faces) each face is linked to the faces before and after it on that
+  // edge only, so a fan of k faces costs O(k) links, not O(k^2), and stays connected.
+  auto& a = t.face_faces;
+  const std::size_t ne = t.edges.size();
+  a.offsets.assign(num_faces + 1, 0);
+  a.indices.clear();
+  for (std::size_t e = 0; e < ne; ++e) {
+    const int* f = t.edge_faces.begin(e);
+    for (int k = 0; k + 1 < t.edge_faces.size(e); ++k) ++a.offsets[f[k] + 1], ++a.offsets[f[k + 1] + 1];
+  }
+  std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
+  a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
+  std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const int* f = t.edge_faces.begin(e);
+    for (int k = 0; k + 1 < t.edge_faces.size(e); ++k) {
+      a.indices[static_cast<std::size_t>(fill[f[k]]++)] = f[k + 1];
+      a.indices[static_cast<std::size_t>(fill[f[k + 1]]++)] = f[k];
+    }
+  }
+  sort_unique_rows(a);  // two faces sharing two edges (degenerate input) are listed once
+}
+
 Topology build_topology(const Mesh& mesh, bool with_face_faces) {
   Topology t;
   const std::size_t nv = mesh.num_vertices();
@@ -127,45 +169,8 @@ Topology build_topology(const Mesh& mesh, bool with_face_faces) {
   std::vector<int>().swap(edge_start);
   std::vector<int>().swap(entry_start);
 
-  {  // vertex -> vertices from the unique edges (self-loops of degenerate faces are skipped). Row v gets
-     // the smaller ends c of edges (c, v) in ascending order, then the larger ends of edges (v, b) in
-     // ascending order: sorted and without repeats as filled.
-    auto& a = t.vertex_vertices;
-    a.offsets.assign(nv + 1, 0);
-    for (const auto& [p, q] : t.edges)
-      if (p != q) ++a.offsets[p + 1], ++a.offsets[q + 1];
-    std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
-    a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
-    std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
-    for (const auto& [p, q] : t.edges)
-      if (p != q) {
-        a.indices[static_cast<std::size_t>(fill[p]++)] = q;
-        a.indices[static_cast<std::size_t>(fill[q]++)] = p;
-      }
-  }
-
-  // face -> edge-adjacent faces. Across a non-manifold edge (k > 2 faces) each face is linked to the
-  // faces before and after it on that edge only, so a fan of k faces costs O(k) links, not O(k^2), and
-  // stays connected.
-  if (with_face_faces) {
-    auto& a = t.face_faces;
-    a.offsets.assign(nf + 1, 0);
-    for (std::size_t e = 0; e < ne; ++e) {
-      const int* f = t.edge_faces.begin(e);
-      for (int k = 0; k + 1 < t.edge_faces.size(e); ++k) ++a.offsets[f[k] + 1], ++a.offsets[f[k + 1] + 1];
-    }
-    std::partial_sum(a.offsets.begin(), a.offsets.end(), a.offsets.begin());
-    a.indices.resize(static_cast<std::size_t>(a.offsets.back()));
-    std::vector<int> fill(a.offsets.begin(), a.offsets.end() - 1);
-    for (std::size_t e = 0; e < ne; ++e) {
-      const int* f = t.edge_faces.begin(e);
-      for (int k = 0; k + 1 < t.edge_faces.size(e); ++k) {
-        a.indices[static_cast<std::size_t>(fill[f[k]]++)] = f[k + 1];
-        a.indices[static_cast<std::size_t>(fill[f[k + 1]]++)] = f[k];
-      }
-    }
-    sort_unique_rows(a);  // two faces sharing two edges (degenerate input) are listed once
-  }
+  add_vertex_vertices(t);
+  if (with_face_faces) add_face_faces(t, nf);
 
   t.boundary_vertex.assign(nv, 0);
   // Boundary successor following face orientation: boundary half-edge u->w of its only face.

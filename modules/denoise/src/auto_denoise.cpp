@@ -15,6 +15,11 @@ namespace {
 
 const char* plural(int n) { return n == 1 ? "" : "s"; }  // "1 iteration", "14 iterations"
 
+template <class T>
+void release(T& v) {
+  v = T{};  // move-assigning an empty one frees the memory
+}
+
 // Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg] (bend_share) at
 // `positions`: soft creases for (20, 45]. Real features of machined parts are sharper; noise a
 // feature-keeping filter locked in is not.
@@ -67,10 +72,24 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.reason = "no faces";
     return r;
   }
-  const Topology topo = build_topology(mesh);
-  FaceGeometry geometry;
-  compute_face_geometry(mesh.positions, mesh.faces, geometry, false);  // no centroids: 24 bytes a face through the whole run
-  const NoiseAnalysis na = analyse_noise(mesh, topo, geometry);
+  // Held through the runs, so kept lean: vertex_vertices and face_faces, which only the noise analysis
+  // and the unfolding after the runs read, are built when those need them, and face_edges not at all.
+  // The input's face geometry (no centroids: nothing here reads them) is computed where it is needed
+  // rather than held (32 bytes a face): a large mesh's peak is the set-up and the runs in between.
+  Topology topo = build_topology(mesh, false);
+  auto geometry_of = [&](const std::vector<Vec3>& positions) {
+    FaceGeometry g;
+    compute_face_geometry(positions, mesh.faces, g, false);
+    return g;
+  };
+  bool has_area = false;
+  const NoiseAnalysis na = [&] {
+    const FaceGeometry geometry = geometry_of(mesh.positions);
+    has_area = std::any_of(geometry.areas.begin(), geometry.areas.end(), [](double a) { return a > 0.0; });
+    return analyse_noise(mesh, topo, geometry);
+  }();
+  release(topo.vertex_vertices);
+  release(topo.face_edges);
   r.noise_level = na.level;
   r.noise = rules.noise_statistic == NoiseStatistic::median ? na.median_jump
             : rules.noise_statistic == NoiseStatistic::rms  ? na.rms_jump
@@ -86,7 +105,9 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // the spatial order) are the ones both runs below use, so they are built once.
   DenoiseCache cache;
   const std::vector<Vec3> reference = prefiltered_normals(mesh, 3.0, 2.0, 4, &cache);
-  const double input_turned = turned_area_share(geometry, reference);
+  const double input_turned = turned_area_share(geometry_of(mesh.positions), reference);
+  // The input's positions: every run starts from them (and the result is measured against them).
+  const std::vector<Vec3> input = mesh.positions;
   const bool closed = topo.num_boundary_edges() == 0 && topo.num_nonmanifold_edges() == 0;
   const double input_volume = closed ? enclosed_volume(mesh.positions, mesh.faces) : 0.0;
   // A limit of 1e9 or more is off (the default): no volume is measured then.
@@ -131,7 +152,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   // the soft creases are below this x their share at half the iterations either (0: it does).
   auto checked_run = [&](Mesh& m, const DenoiseOptions& opt, const ProbeFn& probe, bool while_falling,
                          const TargetFn& ends_at_target = {}, double smooth_fall = 0.0) {
-    const std::vector<Vec3> start = m.positions;  // denoise() works on m in place
+    const std::vector<Vec3>& start = input;  // every run starts from the input
     const double target = opt.target_displacement * edge;
     bool target_on = target > 0.0, reached = false;
     DenoiseOptions inner = opt;
@@ -322,14 +343,15 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
   };
 
   // Step 6: folds the run left, unfolded where that turns no more of the surface against the reference.
-  const std::vector<Vec3> input = mesh.positions;
   auto unfold = [&](Mesh& m) {
     // The input returned as it was is left as it is, unless it is a triangulation of scanned points, whose
     // own folds are defects the run did not have to make.
     if (r.run.iterations == 0 && !o.scanned) return;
+    add_vertex_vertices(topo);  // (released during the runs)
+    add_face_faces(topo, m.num_faces());
     // Folds the noise made and the run left are folds too; the result check keeps the raw reference,
     // against which its constants were fitted.
-    const std::vector<Vec3> unfold_reference = fold_reference(reference, m.faces, topo, geometry.areas);
+    const std::vector<Vec3> unfold_reference = fold_reference(reference, m.faces, topo, geometry_of(input).areas);
     std::vector<Vec3> pos = m.positions;
     // A scanned mesh's slivers are its triangulation's, and a fold there is a defect like any other.
     r.unfold = unfold_faces(pos, m.faces, topo, input, unfold_reference, 10, 0.5, o.scanned);
@@ -355,7 +377,7 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.shifted = rules.shift_warning > 0.0 && std::abs(r.mean_normal_move) > std::max(rules.shift_warning * r.noise, rules.shift_warning_edges * edge);
   };
 
-  if (std::none_of(geometry.areas.begin(), geometry.areas.end(), [](double a) { return a > 0.0; })) {
+  if (!has_area) {
     // No face has an area, so no face has a normal to filter: a run would leave every vertex where it is.
     r.mode = "untouched";
     r.reason = "every face has zero area (no face normal to filter): nothing to denoise";
@@ -441,7 +463,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     smooth.target_displacement = smooth_target_ratio(rules, na.level) * r.noise / edge;
   }
   const bool decide = !is_given("sigma_s");
-  Mesh trial = mesh;
   double creases = -1.0;
   bool clear = false;
   const bool flattening = rules.flat_growth_per_level > 0.0;
@@ -485,12 +506,12 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     creases = soft_crease_share(kept, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
     return creases > crease_limit;
   };
-  auto [rep, verdict] = checked_run(trial, sharp, probe, true, smooth_at_target);
+  auto [rep, verdict] = checked_run(mesh, sharp, probe, true, smooth_at_target);
   cache.keep_topology(false);
   // Ended before the probe (and not by the target, which smooth_at_target judged): decided on what it
   // keeps, unless that is the input (see smooth_at_target).
   if (decide && creases < 0.0 && !nothing_at_target && rep.iterations > 0)
-    creases = soft_crease_share(trial.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
+    creases = soft_crease_share(mesh.positions, mesh, topo, rules.soft_crease_min_deg, rules.soft_crease_max_deg);
   const bool nothing_kept = decide && creases < 0.0;
   r.crease_share = creases;
   r.flat_share = flat;
@@ -522,6 +543,8 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
     r.reason = line;
     r.probe_iterations = rep.iterations;
     ran_past_target = 0;  // (the feature-keeping run's, if it went past its target before the probe)
+    mesh.positions = input;  // the wide kernel's run starts from the input too
+    refresh_stored_normals(mesh);
     auto [rep2, verdict2] = checked_run(mesh, smooth, {}, false, {}, rules.smooth_crease_fall);
     if (ran_past_target > 0) {
       if (past_target_by_bends)
@@ -567,7 +590,6 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
       std::snprintf(line, sizeof line, "sigma_s given: one run%s",
                     levelled_at > 0 ? "; the displacement levelled off after the target (no displacement stop)" : "");
     r.reason = line;
-    mesh = std::move(trial);
     r.levelled_at = levelled_at;
     r.ran_past_target = ran_past_target;
     r.flat_floor_from = flat_floor_from;

@@ -238,9 +238,9 @@ const PackedRows& input_neighbourhoods(DenoiseCache::State* cached, const Topolo
 // `with_face_faces`).
 Topology take_topology(DenoiseCache::State* cached, const Mesh& mesh, bool with_face_faces) {
   if (cached == nullptr || !cached->topology) return build_topology(mesh, with_face_faces);
-  if (cached->keep_topology) return *cached->topology;
-  Topology t = std::move(*cached->topology);
-  cached->topology.reset();
+  Topology t = cached->keep_topology ? *cached->topology : std::move(*cached->topology);
+  if (!cached->keep_topology) cached->topology.reset();
+  if (with_face_faces && t.face_faces.rows() != mesh.num_faces()) add_face_faces(t, mesh.num_faces());  // (the cache's is built without)
   return t;
 }
 
@@ -255,9 +255,13 @@ double boundary_noise(DenoiseCache::State* cached, const Mesh& mesh, const Topol
   return across;
 }
 
+// An observer of the run in spatial order: the positions at unit scale and the scale (divide to get the
+// caller's units), so the caller's copy is made once, in its own order.
+using ScaledObserver = std::function<bool(int iteration, const std::vector<Vec3>& scaled, double scale)>;
+
 // Leaves mesh.positions as they were and sets *nonfinite to a vertex if the result is not finite.
 DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const ProgressCallback& progress,
-                               const IterationObserver& observer, long* nonfinite, DenoiseCache::State* cached) {
+                               const ScaledObserver& observer, long* nonfinite, DenoiseCache::State* cached) {
   DenoiseReport report;
   *nonfinite = -1;
 
@@ -339,7 +343,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   return_free_memory();  // the k-d tree's result rows
   report.seconds_neighbourhoods += seconds_since(t0);
   // The working copy of the positions is made only now, after the neighbourhood search's peak.
-  std::vector<Vec3> positions = mesh.positions, updated, unscaled;
+  std::vector<Vec3> positions = mesh.positions, updated;
   // `geometry` is always that of `positions` here (recomputed at the end of every iteration).
   auto displacement = [&] { return normal_displacement(topology, geometry, mesh.positions, positions); };
 
@@ -403,9 +407,7 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
       break;
     }
     if (observer) {
-      unscaled.resize(positions.size());
-      for (std::size_t v = 0; v < positions.size(); ++v) unscaled[v] = positions[v] / scale;
-      if (!observer(it + 1, unscaled)) {
+      if (!observer(it + 1, positions, scale)) {
         report.stop_reason = "observer";
         break;
       }
@@ -434,10 +436,10 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     if (!mesh.positions[v].allFinite())
       throw InputError("denoise: vertex " + std::to_string(v) + " has a coordinate that is NaN or infinite");
 
-  // The work runs on a copy in spatial order; the results go back to the caller's order. Without an
-  // observer (which may look at the caller's mesh during the run) the caller's positions and faces are
-  // set aside meanwhile, so a large mesh is not held twice; they are rebuilt from the copy, exactly,
-  // however the run ends.
+  // The work runs on a copy in spatial order; the results go back to the caller's order. The caller's
+  // positions are set aside meanwhile (an observer gets the run's as its argument), and so are its faces
+  // unless there is an observer (which may read them), so a large mesh is not held twice; they are
+  // rebuilt from the copy, exactly, however the run ends.
   DenoiseCache::State* cached = nullptr;
   SpatialOrder own_order;
   const SpatialOrder& order = order_of(mesh, cache, &cached, own_order);
@@ -447,27 +449,33 @@ DenoiseReport denoise(Mesh& mesh, const DenoiseOptions& options, const ProgressC
     Mesh& caller;
     const Mesh& local;
     const SpatialOrder& order;
-    bool pending = false;
-    void operator()() {  // the caller's faces, and its positions unless they have been set
-      if (!pending) return;
-      pending = false;
-      caller.faces.resize(local.faces.size());
-      for (std::size_t i = 0; i < local.faces.size(); ++i)
-        for (int k = 0; k < 3; ++k) caller.faces[order.faces[i]][k] = order.vertices[local.faces[i][k]];
-      if (caller.positions.empty()) to_caller_order(order.vertices, local.positions, caller.positions);
+    bool faces_aside = false, positions_aside = false;
+    void operator()() {  // the caller's faces if set aside, and its positions unless they have been set
+      if (faces_aside) {
+        faces_aside = false;
+        caller.faces.resize(local.faces.size());
+        for (std::size_t i = 0; i < local.faces.size(); ++i)
+          for (int k = 0; k < 3; ++k) caller.faces[order.faces[i]][k] = order.vertices[local.faces[i][k]];
+      }
+      if (positions_aside) {
+        positions_aside = false;
+        if (caller.positions.empty()) to_caller_order(order.vertices, local.positions, caller.positions);
+      }
     }
     ~GiveBack() { (*this)(); }
   } give_back{mesh, local, order};
+  std::vector<Vec3>().swap(mesh.positions);
+  give_back.positions_aside = true;
   if (!observer) {
-    std::vector<Vec3>().swap(mesh.positions);
     std::vector<Face>().swap(mesh.faces);
-    give_back.pending = true;
+    give_back.faces_aside = true;
   }
-  std::vector<Vec3> seen;
-  IterationObserver in_order;
+  std::vector<Vec3> seen;  // the run's positions in the caller's order and units
+  ScaledObserver in_order;
   if (observer)
-    in_order = [&](int it, const std::vector<Vec3>& p) {
-      to_caller_order(order.vertices, p, seen);
+    in_order = [&](int it, const std::vector<Vec3>& p, double scale) {
+      seen.resize(p.size());
+      for (std::size_t i = 0; i < p.size(); ++i) seen[order.vertices[i]] = p[i] / scale;
       return observer(it, seen);
     };
   long nonfinite = -1;
@@ -495,7 +503,7 @@ std::vector<Vec3> prefiltered_normals(const Mesh& mesh, double radius_factor, do
   // Built into the cache (the next run takes it from there), or kept here without one.
   std::unique_ptr<Topology> own;
   std::unique_ptr<Topology>& slot = cached != nullptr ? cached->topology : own;
-  if (!slot) slot = std::make_unique<Topology>(build_topology(local));
+  if (!slot) slot = std::make_unique<Topology>(build_topology(local, false));  // (take_topology adds face_faces if a run needs them)
   const Topology& topology = *slot;
   FaceGeometry g;
   compute_face_geometry(local.positions, local.faces, g);

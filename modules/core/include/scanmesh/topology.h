@@ -46,6 +46,14 @@ struct Topology {
 /// `with_face_faces`, face_faces is left empty (the denoiser's ball neighbourhoods do not need it).
 Topology build_topology(const Mesh& mesh, bool with_face_faces = true);
 
+/// (Re)builds `t.vertex_vertices` from its edges, as build_topology does: for a caller that freed the table
+/// while it held other memory and needs it again later.
+void add_vertex_vertices(Topology& t);
+
+/// (Re)builds `t.face_faces` of a mesh of `num_faces` faces from its edges' faces, as build_topology does
+/// with `with_face_faces` (face_edges is not read: a caller may have freed it).
+void add_face_faces(Topology& t, std::size_t num_faces);
+
 /// Number of connected components (through shared vertices) among vertices used by faces.
 std::size_t count_components(const Mesh& mesh, const Topology& topology);
 

@@ -149,7 +149,8 @@ struct DenoiseReport {
 using ProgressCallback = std::function<void(int, int)>;
 /// Called after every iteration with the iterations done and the current vertex positions; returning
 /// false stops the run there (--auto decides with it; benches record quality curves). It must not keep
-/// the reference.
+/// the reference. During the run the mesh given to denoise() keeps its faces but not its positions
+/// (they are set aside, so a large mesh is not held twice): the observer reads them from its argument.
 using IterationObserver = std::function<bool(int, const std::vector<Vec3>&)>;
 
 /// Parses/prints option values ("tukey", "connected_ball", ...). Parsing throws UsageError listing the choices.
