@@ -53,6 +53,8 @@ class OffParser {
         if (static_cast<std::uintmax_t>(nv) > file_size_ || static_cast<std::uintmax_t>(nf) > file_size_)
           s.fail("vertex/face counts (" + std::to_string(nv) + ", " + std::to_string(nf) + ") are larger than the file could hold");
         mesh_.positions.resize(static_cast<std::size_t>(nv));
+        // Room for the faces as counted, as far as the file can hold them (a face line takes at least 8 bytes).
+        mesh_.faces.reserve(static_cast<std::size_t>(std::min<std::uintmax_t>(static_cast<std::uintmax_t>(nf), file_size_ / 8)));
         phase_ = Phase::vertices;
       } else if (phase_ == Phase::vertices) {
         const long long nv = counts_[0];

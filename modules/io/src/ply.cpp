@@ -306,6 +306,9 @@ Mesh read_ply(std::string_view data, const std::string& file, std::vector<std::s
   }
   for (auto& vp : mesh.vertex_properties) vp.values.resize(static_cast<std::size_t>(vertex->count));
   mesh.positions.resize(static_cast<std::size_t>(vertex->count));
+  // A triangle mesh's faces fill the table exactly (grown face by face it held up to twice that through the
+  // whole run: 12.6 MB for 9.7 on 810k faces). The count fits the file (checked above).
+  if (face != nullptr) mesh.faces.reserve(static_cast<std::size_t>(face->count));
 
   ValueReader r(data.substr(std::min(data.size(), s.position())), refill, enc, s);
   std::size_t polygons_split = 0, strip_degenerate = 0;
