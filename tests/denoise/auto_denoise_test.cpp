@@ -219,6 +219,13 @@ TEST(AutoDenoise, ARunThatKeepsMovingReturnsItsTargetIteration) {
   EXPECT_EQ(a.reason.find("levelled off"), std::string::npos) << a.reason;
   ASSERT_EQ(with.positions.size(), without.positions.size());
   EXPECT_EQ(0, std::memcmp(with.positions.data(), without.positions.data(), with.positions.size() * sizeof(Vec3)));
+  // Nor does it run the look-ahead out once the displacement has grown past the limit (the same bits).
+  int furthest = 0;
+  Mesh watched = input;
+  denoise_auto(watched, given, {"sigma_s"}, on, [&](int done, int) { furthest = std::max(furthest, done); });
+  EXPECT_GT(furthest, a.run.iterations);
+  EXPECT_LT(furthest, plateau_end(a.run.iterations, on.plateau_span)) << a.run.iterations;
+  EXPECT_EQ(watched.positions, with.positions);
 }
 
 // Generality, not a fitted case: no model of this kind is in the tuning corpus. The refined bands must not
