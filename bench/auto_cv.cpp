@@ -245,8 +245,8 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
   }
   // The plateau rule: at its target (iteration t) the run looks on to plateau_end(t); if the displacement grew
   // by less than r.plateau_growth of itself meanwhile, the surface has levelled off and every iteration runs.
-  // Without the flat floor to go on to, --auto decides at the first iteration the displacement has grown past
-  // that (it does not wait for plateau_end): so does the replay, at the checkpoints it has.
+  // --auto decides at the first iteration the displacement has grown past that (it does not wait for
+  // plateau_end): so does the replay, at the checkpoints it has.
   bool level = false;
   if (!decided_smooth && !clear && target_it > 0 && r.plateau_growth > 0.0) {
     const Checkpoint* at_t = nullptr;
@@ -257,9 +257,7 @@ Outcome replay(const PairData& p, const Candidate& cand, const std::vector<Check
     }
     auto grown = [&](const Checkpoint& c) { return !(c.ndisp - at_t->ndisp < r.plateau_growth * at_t->ndisp); };
     level = at_t && at_end && !grown(*at_end);
-    const bool floor = r.flat_floor_share > 0.0 && r.flat_floor_iterations > 0 && target_it < r.flat_floor_iterations && at_t &&
-                       at_t->flat >= r.flat_floor_share;
-    if (level && !floor)
+    if (level)
       for (const Checkpoint& c : *sharp)
         if (c.it > target_it && c.it < at_end->it && grown(c)) level = false;
   }

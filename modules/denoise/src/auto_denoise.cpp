@@ -238,20 +238,15 @@ AutoReport denoise_auto(Mesh& mesh, const DenoiseOptions& given, const std::vect
             if (d - d_t > rules.flat_floor_growth * d_t) floor_at = it;
           }
           if (plateau && !plateau_judged) {
+            const bool still_level = levelled(it);
             if (it < plateau_end(target_it, rules.plateau_span)) {
               // The look-ahead goes past the floor: what the run keeps there, in case it ends there.
               if (it == floor_at) at_floor = Snapshot{accepted, last_pass, last_turned, last_volume_change, volume_failed};
-              // Without a floor to go on to, a displacement already grown past the limit is not waited out
-              // (up to half the run again): the run returns to its target now, as it would at plateau_end
-              // unless the displacement fell back meanwhile, which these runs' displacement does not.
-              if (floor_at == 0 && !levelled(it)) {
-                plateau_judged = true;
-                revert = true;
-                return false;
-              }
-              return true;
-            }
-            if (levelled(it)) {
+              // A displacement already grown past the limit is not waited out (up to half the run again):
+              // decided now, as at plateau_end unless the displacement fell back meanwhile, which these runs'
+              // displacement does not (the same bytes on every corpus pair).
+              if (still_level) return true;
+            } else if (still_level) {
               levelled_at = target_it;
               target_on = false;
               return true;
