@@ -27,6 +27,15 @@ double max_displacement(const Mesh& a, const Mesh& b) {
   return d;
 }
 
+// An open spherical cap (a boundary loop) under Gaussian noise 0.3.
+Mesh noisy_cap() {
+  Mesh m = test::make_cap(12, 40, 1.2);
+  NoiseOptions n;
+  n.level = 0.3;
+  add_noise(m, n);
+  return m;
+}
+
 bool all_finite(const Mesh& m) {
   for (const auto& p : m.positions)
     if (!p.allFinite()) return false;
@@ -319,10 +328,7 @@ TEST(Denoise, RunsSharingACacheOnAnOpenMeshMatchUncachedRuns) {
   // The cache also hands the connectivity prefiltered_normals() built to the next run, which takes and
   // trims it; later runs build their own. On an open mesh the runs use its boundary loops, so a wrong or
   // half-trimmed one changes the rim.
-  Mesh noisy = test::make_cap(12, 40, 1.2);
-  NoiseOptions n;
-  n.level = 0.3;
-  add_noise(noisy, n);
+  Mesh noisy = noisy_cap();
   DenoiseOptions o;
   o.iterations = 8;
   o.radius_factor = 3.0;
@@ -343,10 +349,7 @@ TEST(Denoise, RunsSharingACacheOnAnOpenMeshMatchUncachedRuns) {
 TEST(Denoise, ACachedTopologyServesConnectedBallRunsToo) {
   // prefiltered_normals() caches the connectivity without face -> face links (ball neighbourhoods do not
   // read them); a connected-ball run that takes it, or a copy of it, adds them: same bits as uncached.
-  Mesh noisy = test::make_cap(12, 40, 1.2);
-  NoiseOptions n;
-  n.level = 0.3;
-  add_noise(noisy, n);
+  Mesh noisy = noisy_cap();
   DenoiseOptions o;
   o.iterations = 6;
   o.neighbourhood = NeighbourhoodKind::connected_ball;
@@ -406,10 +409,7 @@ TEST(Denoise, TheResultDoesNotDependOnTheOrderOfFacesAndVertices) {
   // The denoiser works in its own spatial order; the caller's order must come back, and shuffling the
   // input may change only the rounding (faces at one Morton code are ordered by index), plus an
   // open boundary and a vertex without faces, which must stay where it is.
-  Mesh noisy = test::make_cap(12, 40, 1.2);
-  NoiseOptions n;
-  n.level = 0.3;
-  add_noise(noisy, n);
+  Mesh noisy = noisy_cap();
   noisy.positions.push_back(Vec3(5.0, 5.0, 5.0));
   const std::size_t nv = noisy.num_vertices(), nf = noisy.num_faces();
   std::vector<int> vperm(nv), fperm(nf);  // new -> old

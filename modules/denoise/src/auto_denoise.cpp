@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "scanmesh/geometry.h"
+#include "scanmesh/memory.h"
 #include "scanmesh/noise_analysis.h"
 #include "scanmesh/normal_filtering.h"
 #include "scanmesh/parallel.h"
@@ -14,11 +15,6 @@ namespace scanmesh {
 namespace {
 
 const char* plural(int n) { return n == 1 ? "" : "s"; }  // "1 iteration", "14 iterations"
-
-template <class T>
-void release(T& v) {
-  v = T{};  // move-assigning an empty one frees the memory
-}
 
 // Share of manifold edges whose faces' normals differ by an angle in (min_deg, max_deg] (bend_share) at
 // `positions`: soft creases for (20, 45]. Real features of machined parts are sharper; noise a

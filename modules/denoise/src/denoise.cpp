@@ -326,7 +326,6 @@ DenoiseReport denoise_in_order(Mesh& mesh, const DenoiseOptions& options, const 
   // From here on only vertex_faces and the boundary flags of the topology are needed (and face_faces for
   // connected-ball neighbourhoods): the rest, ~70 bytes per face, goes before the neighbourhoods are built.
   const PackedRows fidelity = PackedRows::from(fidelity_neighbours(mesh, topology));  // may take topology.vertex_vertices
-  auto release = [](auto& v) { v = std::decay_t<decltype(v)>{}; };  // move-assigning an empty one frees the memory
   release(topology.vertex_vertices);
   release(topology.edges);
   release(topology.edge_faces);
