@@ -230,6 +230,43 @@ TEST(Cleanup, SplitsABowtieVertexAndOrientsClosedPiecesOutwards) {
   EXPECT_NEAR(signed_volume(cube), 1.0, 1e-12);
 }
 
+// A Moebius band of n segments: every vertex on its one boundary, and no orientation fits it, so clean-up
+// must remove a face, which leaves the corner between its two neighbours joining two fans.
+Mesh moebius_band(int n) {
+  Mesh m;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2.0 * M_PI * i / n, half = 0.5 * t;
+    const Vec3 centre(std::cos(t), std::sin(t), 0.0);
+    const Vec3 across(std::cos(half) * std::cos(t), std::cos(half) * std::sin(t), std::sin(half));
+    m.positions.push_back(centre + 0.3 * across);
+    m.positions.push_back(centre - 0.3 * across);
+  }
+  for (int i = 0; i < n; ++i) {
+    const int t0 = 2 * i, b0 = 2 * i + 1;
+    // after the last segment the band comes back turned over: top meets bottom
+    const int t1 = i + 1 < n ? 2 * (i + 1) : 1, b1 = i + 1 < n ? 2 * (i + 1) + 1 : 0;
+    m.faces.push_back({t0, b0, b1});
+    m.faces.push_back({t0, b1, t1});
+  }
+  return m;
+}
+
+TEST(Cleanup, WhatItHandsOnIsManifoldAtItsVerticesAfterRemovingFolds) {
+  for (int n = 6; n <= 24; ++n) {
+    Mesh m = moebius_band(n);
+    CleanupOptions o;
+    o.min_component_faces = 0;
+    const CleanupReport r = clean_mesh(m, o);
+    ASSERT_GE(r.fold_faces, 1u) << n << " segments: a Moebius band cannot be oriented whole";
+    EXPECT_EQ(r.unorientable_edges, 0u) << n;
+    // Clean-up again finds nothing to split: no vertex joins two fans.
+    CleanupOptions again;
+    again.min_component_faces = 0;
+    EXPECT_EQ(clean_mesh(m, again).split_vertices, 0u) << n << " segments";
+    EXPECT_EQ(topology_stats(m).inconsistent_edges, 0u) << n;
+  }
+}
+
 TEST(MeshCloud, AutoKeepsGreedyProjectionWhereItCoversTheScan) {
   PointCloud c = sampled_sphere(4000);
   estimate_normals(c, NormalOptions{});
