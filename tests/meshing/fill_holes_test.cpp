@@ -211,3 +211,40 @@ TEST(FillHoles, ALoopWhoseDiagonalsAreTakenGetsAFan) {
     EXPECT_GT(n.z(), 0.0);
   }
 }
+
+TEST(FillHoles, ASlitAtACopiedVertexIsZippedAndTheGridIsWholeAgain) {
+  // The 4 x 4 grid cut along (1, 2) - (2, 2) - (3, 2): the faces above the cut use a copy of (2, 2), as
+  // clean-up leaves a vertex it split. The loop (1,2) (2,2) (3,2) (2,2)' encloses no area.
+  Mesh m = test::make_grid(4);
+  const int v = 2 * 5 + 2, copy = static_cast<int>(m.num_vertices());
+  m.positions.push_back(m.positions[v]);
+  for (Face& f : m.faces)
+    if ((m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]).y() / 3.0 > 2.0)
+      for (int& x : f)
+        if (x == v) x = copy;
+  std::vector<std::vector<int>> slit;
+  for (auto& r : hole_rings(m, m.positions, true))
+    if (std::find(r.begin(), r.end(), copy) != r.end()) slit.push_back(r);
+  ASSERT_EQ(slit.size(), 1u);
+  ASSERT_EQ(slit[0].size(), 4u);
+  std::size_t zipped = 0;
+  const auto left = zip_slits(m, slit, &zipped);
+  EXPECT_TRUE(left.empty());
+  EXPECT_EQ(zipped, 1u);
+  // One of the two copies is left, and the grid is whole (clean-up would drop the other).
+  bool uses_v = false, uses_copy = false;
+  for (const Face& f : m.faces)
+    for (int x : f) {
+      uses_v |= x == v;
+      uses_copy |= x == copy;
+    }
+  EXPECT_NE(uses_v, uses_copy);
+  expect_whole_grid(m, 16.0);
+  // A loop without coincident vertices is handed back as it came.
+  Mesh hole = without_faces(test::make_grid(6), [](const Vec3& c) { return c.x() > 2 && c.x() < 4 && c.y() > 2 && c.y() < 4; });
+  const auto rings = hole_rings(hole, hole.positions);
+  ASSERT_EQ(rings.size(), 1u);
+  const Mesh before = hole;
+  EXPECT_EQ(zip_slits(hole, rings), rings);
+  EXPECT_EQ(hole.faces, before.faces);
+}

@@ -396,6 +396,63 @@ std::vector<FilledHole> fill_holes(Mesh& mesh, const std::vector<std::vector<int
   return out;
 }
 
+std::vector<std::vector<int>> zip_slits(Mesh& mesh, const std::vector<std::vector<int>>& loops, std::size_t* zipped) {
+  if (zipped != nullptr) *zipped = 0;
+  // The faces at each loop vertex (a loop vertex's slot in `at`), kept up to date as welds move faces.
+  std::vector<int> slot(mesh.num_vertices(), -1);
+  int slots = 0;
+  for (const auto& loop : loops)
+    for (int v : loop)
+      if (slot[v] < 0) slot[v] = slots++;
+  std::vector<std::vector<int>> at(static_cast<std::size_t>(slots));
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f)
+    for (int v : mesh.faces[f])
+      if (slot[v] >= 0) at[slot[v]].push_back(static_cast<int>(f));
+  // Whether welding w into v keeps every edge at v to at most two faces and every face's corners apart.
+  std::vector<int> spokes;
+  auto can_weld = [&](int v, int w) {
+    spokes.clear();
+    for (int s : {v, w})
+      for (int f : at[slot[s]])
+        for (int x : mesh.faces[f]) {
+          if (x == (s == v ? w : v)) return false;
+          if (x != s) spokes.push_back(x);
+        }
+    std::sort(spokes.begin(), spokes.end());
+    for (std::size_t k = 2; k < spokes.size(); ++k)
+      if (spokes[k] == spokes[k - 2]) return false;
+    return true;
+  };
+  std::vector<std::vector<int>> out;
+  for (const auto& loop : loops) {
+    std::vector<int> ring = loop;
+    bool welded = false;
+    for (std::size_t i = 0; ring.size() >= 3 && i < ring.size();) {
+      const std::size_t n = ring.size();
+      const int v = ring[(i + n - 1) % n], w = ring[(i + 1) % n];
+      if (v == w || mesh.positions[v] != mesh.positions[w] || !can_weld(v, w)) {
+        ++i;
+        continue;
+      }
+      for (int f : at[slot[w]]) {
+        for (int& x : mesh.faces[f])
+          if (x == w) x = v;
+        at[slot[v]].push_back(f);
+      }
+      at[slot[w]].clear();
+      // a and w leave the ring (a's two edges are one now, between two faces); look again before v.
+      const std::size_t first = std::min(i, (i + 1) % n), second = std::max(i, (i + 1) % n);
+      ring.erase(ring.begin() + static_cast<long>(second));
+      ring.erase(ring.begin() + static_cast<long>(first));
+      welded = true;
+      i = i >= 2 ? i - 2 : 0;
+    }
+    if (ring.size() >= 3) out.push_back(std::move(ring));
+    else if (welded && zipped != nullptr) ++*zipped;
+  }
+  return out;
+}
+
 void remove_patches(Mesh& mesh, std::vector<FilledHole>& patches, const std::vector<char>& keep) {
   std::vector<char> drop_face(mesh.num_faces(), 0), drop_vertex(mesh.num_vertices(), 0);
   for (std::size_t i = 0; i < patches.size(); ++i) {

@@ -31,6 +31,15 @@ constexpr std::size_t kMaxFillLoopVertices = 400;
 /// of many long loops stays near-linear); the rest stay open. Deterministic, whatever the thread count.
 std::vector<FilledHole> fill_holes(Mesh& mesh, const std::vector<std::vector<int>>& loops);
 
+/// Zips the slits of loops before they are filled: where a loop runs out to a vertex a and back
+/// (..., v, a, w, ...) with v and w at the same position (copies of one vertex, which clean-up splits
+/// where a removed face left two fans touching), w is welded into v and the two edges beside a become one
+/// edge between two faces. A weld that would give an edge more than two faces, or a face a repeated
+/// vertex, is not made. Faces referring to w then refer to v; w is left unreferenced (clean-up drops it).
+/// Returns what remains of the loops, each still in boundary order, without the loops zipped shut;
+/// `zipped` (if given) gets how many were.
+std::vector<std::vector<int>> zip_slits(Mesh& mesh, const std::vector<std::vector<int>>& loops, std::size_t* zipped = nullptr);
+
 /// Removes the faces of the patches for which `keep` is false and the vertices they added; the other
 /// vertices and faces keep their order, and the kept patches' ranges are updated (removed ones become
 /// not `filled`).
