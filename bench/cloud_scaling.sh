@@ -3,7 +3,8 @@
 # dragon of ../shared/data (`scanmesh scan`, depth noise 0.3 mean edges) at growing resolution, each run
 # through configs/scan_to_mesh.yaml. Prints a Markdown table: points, seconds per stage (from the job's
 # own stage lines), total seconds, peak resident memory (GNU time), the meshing method mesh.auto chose,
-# faces, and the run's status. Skips when ../shared/data is absent.
+# faces, the run's status, and E_v of the final mesh against the clean dragon (relative to its bounding-box
+# diagonal, `scanmesh eval OUT --reference dragon-202k.ply`). Skips when ../shared/data is absent.
 #   level 1: 6 views of 640 x 480 (~0.2M points)      level 2: 6 views of 1280 x 960 (~0.9M)
 #   level 3: 12 views of 1600 x 1200 (~2.7M)          level 4: 12 views of 2880 x 2160 (~9M)
 # usage: bench/cloud_scaling.sh [DATA_DIR]   (from the repository root, after scripts/build.sh;
@@ -23,9 +24,9 @@ heights=(0 480 960 1200 2160)
 stages="cloud.dequantize cloud.voxel cloud.outliers cloud.normals mesh.auto mesh.cleanup mesh.denoise"
 printf "| points | scan (s) |"
 for s in $stages; do printf " %s (s) |" "$s"; done
-printf " main job (s) | peak MB | method | faces | status |\n|---|---|"
+printf " main job (s) | peak MB | method | faces | status | E_v |\n|---|---|"
 for s in $stages; do printf "%s" "---|"; done
-printf "%s\n" "---|---|---|---|---|"
+printf "%s\n" "---|---|---|---|---|---|"
 for k in $(seq "$from" "$levels"); do
   cloud="$tmp/scan-L$k.ply"
   /usr/bin/time -f "%e" -o "$tmp/scan.time" "$bin/scanmesh" scan "$data/meshes/dragon-202k.ply" "$cloud" -q \
@@ -36,8 +37,9 @@ for k in $(seq "$from" "$levels"); do
   points=$(awk '/^read / {print $4; exit}' "$tmp/job.log")
   printf "| %s | %s |" "${points:-?}" "$(cat "$tmp/scan.time")"
   for s in $stages; do printf " %s |" "$(awk -v s="$s" '$1 == s && $3 == "s" {print $2; exit}' "$tmp/job.log")"; done
-  method=$(awk '$1 == "mesh.auto" && $3 == "s" {print $NF; exit}' "$tmp/job.log")
+  method=$(awk '$1 == "mesh.auto" && $3 == "s" {print ($0 ~ /: Poisson$/ ? "Poisson" : ($0 ~ /organized meshing/ ? "organized" : "greedy projection")); exit}' "$tmp/job.log")
   faces=$(awk '$1 == "mesh.denoise" && $3 == "s" {print $6; exit}' "$tmp/job.log")
   status=$(grep -q '^degraded' "$tmp/job.log" && echo degraded || echo ok)
-  printf " %s | %s | %s | %s | %s |\n" "$secs" "$(awk -v m="$mem" 'BEGIN {printf "%.0f", m / 1024}')" "$method" "$faces" "$status"
+  ev=$("$bin/scanmesh" eval "$tmp/out-L$k.ply" --reference "$data/meshes/dragon-202k.ply" 2>/dev/null | awk '$1 == "E_v:" {gsub(/[(]/, "", $3); print $3; exit}')
+  printf " %s | %s | %s | %s | %s | %s |\n" "$secs" "$(awk -v m="$mem" 'BEGIN {printf "%.0f", m / 1024}')" "$method" "$faces" "$status" "${ev:-?}"
 done
