@@ -1,5 +1,6 @@
 // libFuzzer harness for hole filling: any mesh the OFF reader accepts, cleaned the way mesh.auto cleans
-// greedy projection's output, has every boundary loop closed and half of the patches taken out again.
+// greedy projection's output, has its loops' slits zipped (copies of a vertex at one position welded, as
+// mesh.auto does), every remaining loop closed and half of the patches taken out again.
 // The contract under test: no crash, no undefined behaviour, no hang (a loop's cubic cost is budgeted)
 // and every face index in range afterwards.
 #include <cmath>
@@ -38,6 +39,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const scanmesh::ScanFit fit = scanmesh::measure_scan_fit(m, m.positions, edge);
     std::vector<std::vector<int>> rings;
     for (const auto& loop : fit.loops) rings.push_back(loop.ring);
+    rings = scanmesh::zip_slits(m, rings);
+    check_indices(m);
     std::vector<scanmesh::FilledHole> patches = scanmesh::fill_holes(m, rings);
     check_indices(m);
     std::vector<char> keep(patches.size());
