@@ -5,8 +5,10 @@
 //     against the clean mesh (nearest face, degrees), E_v / bounding-box diagonal, coverage, status.
 // usage: scanmesh_mesh_methods [DATA_DIR] [--config configs/scan_to_mesh.yaml] [--clouds-only|--scans-only]
 //                              [--set STAGE.KEY=VALUE ...]   (added to every method's run, to try a setting)
-//                              [--models NAME,NAME...]  (virtual scans of these models of DATA_DIR/train instead)
+//                              [--models NAME,NAME...]  (virtual scans of these models of DATA_DIR/train instead, or
+//                              of files under DATA_DIR: meshes/featuretype.stl)
 //                              [--breakdown]  (virtual scans: where E_v comes from, by distance to the nearest scan point)
+//                              [--main-job-only]  (the main job's rows alone: a quarter of the time, to compare builds or settings)
 //                              [--views N] [--pixels WxH] [--scan-noise S]  (other virtual scans than the table's
 //                              4 views of 96 x 72, noise 0.2: settings no rule was chosen on)
 #include <unistd.h>
@@ -114,7 +116,7 @@ static int run(int argc, char** argv) {
   std::string config = "configs/scan_to_mesh.yaml";
   bool clouds = true, scans = true;
   std::vector<std::string> extra;
-  bool breakdown = false;
+  bool breakdown = false, main_only = false;
   std::string model_list;
   VirtualScanOptions vo;  // the table's sparse scans unless asked otherwise
   vo.views = 4;
@@ -125,6 +127,7 @@ static int run(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--config") && i + 1 < argc) config = argv[++i];
     else if (!std::strcmp(argv[i], "--set") && i + 1 < argc) extra.push_back(argv[++i]);
     else if (!std::strcmp(argv[i], "--breakdown")) breakdown = true;
+    else if (!std::strcmp(argv[i], "--main-job-only")) main_only = true;
     else if (!std::strcmp(argv[i], "--clouds-only")) scans = false;
     else if (!std::strcmp(argv[i], "--scans-only")) clouds = false;
     else if (!std::strcmp(argv[i], "--models") && i + 1 < argc) model_list = argv[++i];
@@ -133,7 +136,7 @@ static int run(int argc, char** argv) {
   }
   register_scan_stages();
   // The folder the asked-for part reads: clouds/, or the models of train/ (or the shared ones) for the scans.
-  const fs::path needed = clouds ? data / "clouds" : !model_list.empty() ? data / "train" : data;
+  const fs::path needed = clouds ? data / "clouds" : !model_list.empty() && model_list.find('.') == std::string::npos ? data / "train" : data;
   if (!fs::is_directory(needed)) {
     std::printf("skipped: %s not found\n", needed.c_str());
     return 0;
@@ -157,6 +160,7 @@ static int run(int argc, char** argv) {
       const PointCloud cloud = read_cloud(f.string());
       const double spacing = measure_scale(cloud).spacing;
       for (const auto& m : methods()) {
+        if (main_only && &m != &methods().front()) continue;
         if (cloud.organized() && std::string(m.name) != "auto (main job)") {
           if (std::string(m.name) != "gp3") continue;  // organized frames: auto (organized meshing) against gp3 only
         }
@@ -186,7 +190,11 @@ static int run(int argc, char** argv) {
     if (!model_list.empty()) {  // other models of train/, e.g. to choose a setting on models the table does not show
       models.clear();
       std::stringstream names(model_list);
-      for (std::string name; std::getline(names, name, ',');) models.emplace_back(name, data / "train" / (name + ".obj"));
+      for (std::string name; std::getline(names, name, ',');) {
+        const fs::path as_given(name);  // a file under DATA_DIR (meshes/featuretype.stl), or a model of train/ by name
+        if (as_given.has_extension()) models.emplace_back(as_given.stem().string(), data / as_given);
+        else models.emplace_back(name, data / "train" / (name + ".obj"));
+      }
     }
     for (const auto& [name, file] : models) {
       if (!fs::exists(file)) continue;
@@ -196,6 +204,7 @@ static int run(int argc, char** argv) {
       write_cloud_ply(scan, scan_file);
       const double spacing = measure_scale(scan).spacing;
       for (const auto& m : methods()) {
+        if (main_only && &m != &methods().front()) continue;
         const Outcome o = run(config, scan_file, out, m.sets, extra);
         if (!o.ok) {
           std::printf("| %s | %zu | %s | failed: %s | | | | %.2f |\n", name.c_str(), scan.size(), m.name, o.error.c_str(), o.seconds);
