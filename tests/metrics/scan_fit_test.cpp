@@ -91,6 +91,55 @@ TEST(ScanFit, PointsTheMeshCoversBesideAGapDoNotMakeItAHole) {
   EXPECT_EQ(h.holes, 1u);
 }
 
+TEST(ScanFit, ALoopKeepsTheKindItHadAsMeshedWhenLaterStagesOnlyMovedVertices) {
+  const Mesh g = test::make_grid(30);
+  const Mesh holed = punch(g, 10.5, 19.5);  // a 10 x 10 opening, edges at x, y = 10 and 20
+  std::vector<Vec3> seen;
+  for (const Vec3& p : g.positions)
+    if (!(p.x() > 10.5 && p.x() < 19.5 && p.y() > 10.5 && p.y() < 19.5)) seen.push_back(p);
+  // Noise along the rim, inside the opening, within the coverage radius (2) of the mesh as meshed and
+  // within 1.5 of the probe halfway from the centroid to the corner (12.5, 12.5).
+  for (const Vec3& p : {Vec3(11.8, 12.5, 0.0), Vec3(12.5, 11.8, 0.0), Vec3(11.9, 13.0, 0.0), Vec3(11.6, 11.9, 0.0)}) seen.push_back(p);
+  const ScanFit meshed = measure_scan_fit(holed, seen, 1.0);
+  ASSERT_EQ(meshed.points_left_out, 0u);
+  ASSERT_EQ(meshed.gaps, 1u);
+  // Later the opening's rim moves back by half a spacing (as denoising straightens a ragged rim): those
+  // points now lie farther than 2 from the mesh.
+  Mesh moved = holed;
+  for (Vec3& p : moved.positions) {
+    if (p.x() == 10.0 && p.y() >= 10.0 && p.y() <= 20.0) p.x() = 9.5;
+    if (p.x() == 20.0 && p.y() >= 10.0 && p.y() <= 20.0) p.x() = 20.5;
+    if (p.y() == 10.0 && p.x() >= 9.5 && p.x() <= 20.5) p.y() = 9.5;
+    if (p.y() == 20.0 && p.x() >= 9.5 && p.x() <= 20.5) p.y() = 20.5;
+  }
+  const ScanFit alone = measure_scan_fit(moved, seen, 1.0);  // judged on its own: the loop holds left-out points
+  EXPECT_EQ(alone.points_left_out, 4u);
+  EXPECT_EQ(alone.holes, 1u);
+  const ScanFit judged = measure_scan_fit(moved, seen, 1.0, false, &meshed);
+  EXPECT_EQ(judged.points_left_out, 4u);  // still counted against coverage
+  EXPECT_EQ(judged.holes, 0u);            // the same loop: it keeps its kind
+  EXPECT_EQ(judged.gaps, 1u);
+  EXPECT_EQ(judged.rims, 1u);
+  // A loop meshing did not have (a face on the far side of the opening removed later) is judged again.
+  Mesh trimmed = moved;
+  for (std::size_t f = 0; f < trimmed.faces.size(); ++f) {
+    const Face& t = trimmed.faces[f];
+    Vec3 c = (moved.positions[t[0]] + moved.positions[t[1]] + moved.positions[t[2]]) / 3.0;
+    if (c.x() > 20.5 && c.x() < 21.0 && c.y() > 15.0 && c.y() < 16.0) {
+      trimmed.faces.erase(trimmed.faces.begin() + static_cast<long>(f));
+      break;
+    }
+  }
+  ASSERT_EQ(trimmed.faces.size() + 1, moved.faces.size());
+  EXPECT_EQ(measure_scan_fit(trimmed, seen, 1.0, false, &meshed).holes, 1u);
+  // Points deep inside that meshing left out as well: a hole, however the rim moved.
+  for (const Vec3& p : {Vec3(14.6, 15.2, 0.0), Vec3(15.3, 14.7, 0.0), Vec3(15.0, 15.4, 0.0)}) seen.push_back(p);
+  const ScanFit meshed_with_data = measure_scan_fit(holed, seen, 1.0);
+  ASSERT_EQ(meshed_with_data.holes, 1u);
+  const ScanFit still = measure_scan_fit(moved, seen, 1.0, false, &meshed_with_data);
+  EXPECT_EQ(still.holes, 1u);
+}
+
 TEST(ScanFit, DistancesAreInSceneUnits) {
   const Mesh g = test::make_grid(10);
   std::vector<Vec3> pts = points_of(g);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numeric>
 
 #include "scanmesh/closest_point.h"
@@ -174,7 +175,7 @@ std::string coverage_radius_words(const ScanFit& fit) {
   return b;
 }
 
-ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid) {
+ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid, const ScanFit* as_meshed) {
   ScanFit fit;
   fit.spacing = spacing;
   fit.coverage_radius = 2.0 * spacing;
@@ -237,35 +238,53 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
   // encloses holds no points (the scanner saw nothing there), else a hole the meshing left. The region is
   // probed at the loop's centroid and halfway from there to each corner: more than kStrays points that the
   // mesh leaves out (farther than the coverage radius from it) within 1.5 spacings of the probes mean
-  // measured surface inside the loop. A loop too small to enclose an empty region (every probe within 1.5 spacings of a
-  // point) is a hole as well. A gap whose probe lies off the mesh beside a point the mesh covers is marked
-  // `points_beside`: noise beside the surface, or a sparsely sampled curve the loop cuts across.
+  // measured surface inside the loop. A loop too small to enclose an empty region (every probe within 1.5
+  // spacings of a point) is a hole as well. A gap whose probe lies off the mesh beside a point the mesh
+  // covers is marked `points_beside`: noise beside the surface, or a sparsely sampled curve the loop cuts
+  // across. A loop `as_meshed` has as well (the same vertices in the same order) keeps the kind it had
+  // there, and the rims are chosen among the other loops of pieces whose rim is not among those.
   const Topology topo = build_topology(mesh);
   fit.inconsistent_edges = topology_stats(mesh).inconsistent_edges;
+  const std::vector<std::vector<int>> loops = closed_boundary_loops(mesh, topo);
+  std::map<std::pair<int, std::size_t>, std::vector<const BoundaryLoopFit*>> meshed_loops;  // by first vertex and length
+  if (as_meshed != nullptr)
+    for (const auto& l : as_meshed->loops)
+      if (!l.ring.empty()) meshed_loops[{l.ring.front(), l.ring.size()}].push_back(&l);
+  std::vector<char> inherited(loops.size(), 0);
+  std::vector<char> piece_has_rim(fit.pieces, 0);
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    BoundaryLoopFit b;
+    b.vertices = loops[i].size();
+    for (std::size_t k = 0; k < b.vertices; ++k) b.perimeter += (mesh.positions[loops[i][k]] - mesh.positions[loops[i][(k + 1) % b.vertices]]).norm();
+    b.ring = loops[i];
+    if (const auto it = meshed_loops.find({b.ring.front(), b.vertices}); it != meshed_loops.end())
+      for (const BoundaryLoopFit* m : it->second)
+        if (m->ring == b.ring) {
+          b.kind = m->kind;
+          b.points_beside = m->points_beside;
+          inherited[i] = 1;
+          if (b.kind == BoundaryLoopFit::Kind::rim) piece_has_rim[piece[topo.vertex_faces.begin(b.ring.front())[0]]] = 1;
+        }
+    fit.loops.push_back(std::move(b));
+  }
   std::vector<int> rim_of_piece(fit.pieces, -1);
   std::vector<double> rim_length(fit.pieces, -1.0);
-  const std::vector<std::vector<int>> loops = closed_boundary_loops(mesh, topo);
-  for (const auto& loop : loops) {
-    BoundaryLoopFit b;
-    b.vertices = loop.size();
-    for (std::size_t k = 0; k < loop.size(); ++k) b.perimeter += (mesh.positions[loop[k]] - mesh.positions[loop[(k + 1) % loop.size()]]).norm();
-    b.ring = loop;
-    fit.loops.push_back(b);
-    const int p = piece[topo.vertex_faces.begin(loop.front())[0]];
-    if (b.perimeter > rim_length[p]) {
-      rim_length[p] = b.perimeter;
-      rim_of_piece[p] = static_cast<int>(fit.loops.size() - 1);
+  for (std::size_t i = 0; i < fit.loops.size(); ++i) {
+    const int p = piece[topo.vertex_faces.begin(loops[i].front())[0]];
+    if (!inherited[i] && !piece_has_rim[p] && fit.loops[i].perimeter > rim_length[p]) {
+      rim_length[p] = fit.loops[i].perimeter;
+      rim_of_piece[p] = static_cast<int>(i);
     }
   }
   std::vector<char> is_rim(fit.loops.size(), 0);
   for (int r : rim_of_piece)
     if (r >= 0) is_rim[r] = 1;
-  // Probes of all non-rim loops, answered in one batch.
+  // Probes of all loops to be judged, answered in one batch.
   std::vector<Vec3> probes;
   std::vector<std::size_t> probe_start(fit.loops.size() + 1, 0);
   for (std::size_t i = 0; i < fit.loops.size(); ++i) {
     probe_start[i] = probes.size();
-    if (is_rim[i] || from_grid) continue;
+    if (inherited[i] || is_rim[i] || from_grid) continue;
     const auto& loop = loops[i];
     Vec3 c = Vec3::Zero();
     for (int v : loop) c += mesh.positions[v];
@@ -303,6 +322,17 @@ ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, doub
   const ClosestPointIndex surface(mesh);
   for (std::size_t i = 0; i < fit.loops.size(); ++i) {
     BoundaryLoopFit& b = fit.loops[i];
+    if (inherited[i]) {
+      switch (b.kind) {
+        case BoundaryLoopFit::Kind::rim: ++fit.rims; break;
+        case BoundaryLoopFit::Kind::gap: ++fit.gaps; break;
+        case BoundaryLoopFit::Kind::hole:
+          ++fit.holes;
+          fit.largest_hole = std::max(fit.largest_hole, b.perimeter);
+          break;
+      }
+      continue;
+    }
     if (is_rim[i]) {
       b.kind = BoundaryLoopFit::Kind::rim;
       ++fit.rims;

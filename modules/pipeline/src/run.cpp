@@ -124,7 +124,8 @@ PipelineResult Pipeline::run() {
     // Does the mesh still represent the scan it was made from? (Measured once; the report shows it.)
     std::shared_ptr<ScanFit> fit;
     if (data.mesh && data.meshed && !data.meshed->points.empty()) {
-      fit = std::make_shared<ScanFit>(measure_scan_fit(*data.mesh, data.meshed->points, data.meshed->spacing, data.meshed->from_grid));
+      fit = std::make_shared<ScanFit>(measure_scan_fit(*data.mesh, data.meshed->points, data.meshed->spacing, data.meshed->from_grid,
+                                                        data.meshed->fit.get()));
       for (const std::string& p : scan_fit_problems(*fit)) {
         ctx.problems.push_back(p);
         ctx.warnings.push_back("degraded: " + p);

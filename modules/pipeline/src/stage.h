@@ -34,6 +34,9 @@ struct Data {
     std::vector<Vec3> points;
     double spacing = 0.0;
     bool from_grid = false;
+    /// How the mesh as meshing left it fits `points` (when meshing measured it: mesh.auto on an
+    /// unorganized cloud): the final report judges the loops by it (measure_scan_fit's `as_meshed`).
+    std::shared_ptr<const ScanFit> fit;
   };
   std::optional<Meshed> meshed;
   /// The mesh was triangulated from scanned points here and nothing has added noise to it since: every

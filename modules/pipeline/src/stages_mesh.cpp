@@ -35,6 +35,10 @@ struct MeshStage : Stage {
       if (p.allFinite()) meshed.points.push_back(p);
     meshed.spacing = scale_of(d).spacing;
     meshed.from_grid = decision.method == MeshMethod::organized;
+    if (decision.fit.point_distance.size() == meshed.points.size()) {
+      decision.fit.layered_faces.clear();
+      meshed.fit = std::make_shared<const ScanFit>(std::move(decision.fit));
+    }
     d.meshed = std::move(meshed);
     d.scanned_mesh = true;
     d.mesh_keeps_points = decision.method != MeshMethod::poisson;

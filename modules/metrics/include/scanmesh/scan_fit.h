@@ -64,8 +64,14 @@ struct ScanFit {
 /// Measures `mesh` against the `points` it represents (non-finite points are skipped). `spacing` is the
 /// cloud's mean point spacing (> 0). With `from_grid` (the mesh was made on a sensor's pixel grid, which
 /// connects every pair of neighbouring pixels but across depth jumps, too oblique views and missing
-/// pixels) every loop that is not a rim is a gap of the scan. Parallel; independent of the thread count.
-ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid = false);
+/// pixels) every loop that is not a rim is a gap of the scan. `as_meshed`, if given, is the fit of the mesh
+/// as meshing left it, before later stages moved its vertices (denoising): moving vertices opens no loop
+/// and changes no region a loop encloses, only which loop is the longest and where the probes fall (a
+/// smoothed rim draws back from the noisy points beside it). So a loop that mesh has as well (the same
+/// vertices in the same order) keeps its kind; loops a later stage changed are judged again. Parallel;
+/// independent of the thread count.
+ScanFit measure_scan_fit(const Mesh& mesh, const std::vector<Vec3>& points, double spacing, bool from_grid = false,
+                         const ScanFit* as_meshed = nullptr);
 
 /// What a result must reach not to count as degraded.
 struct ScanFitLimits {
