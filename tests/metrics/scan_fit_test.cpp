@@ -27,6 +27,14 @@ Mesh punch(const Mesh& grid, double lo, double hi) {
   return m;
 }
 
+// The grid's vertices but those strictly inside (lo, hi) x (lo, hi): a scan that saw nothing there.
+std::vector<Vec3> points_around(const Mesh& grid, double lo, double hi) {
+  std::vector<Vec3> seen;
+  for (const Vec3& p : grid.positions)
+    if (!(p.x() > lo && p.x() < hi && p.y() > lo && p.y() < hi)) seen.push_back(p);
+  return seen;
+}
+
 }  // namespace
 
 TEST(ScanFit, AMeshThroughItsPointsCoversThemAndHasOnlyItsRim) {
@@ -52,9 +60,7 @@ TEST(ScanFit, AHoleWherePointsWereIsAProblemAndAGapWithoutPointsIsNot) {
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_NE(problems[0].find("1 hole where the scan has points"), std::string::npos) << problems[0];
   // The same hole where the scan saw nothing (points inside removed): a gap of the data, no problem.
-  std::vector<Vec3> seen;
-  for (const Vec3& p : g.positions)
-    if (!(p.x() > 10.5 && p.x() < 19.5 && p.y() > 10.5 && p.y() < 19.5)) seen.push_back(p);
+  std::vector<Vec3> seen = points_around(g, 10.5, 19.5);
   const ScanFit gap = measure_scan_fit(holed, seen, 1.0);
   EXPECT_EQ(gap.holes, 0u);
   EXPECT_EQ(gap.gaps, 1u);
@@ -64,9 +70,7 @@ TEST(ScanFit, AHoleWherePointsWereIsAProblemAndAGapWithoutPointsIsNot) {
 TEST(ScanFit, PointsTheMeshCoversBesideAGapDoNotMakeItAHole) {
   const Mesh g = test::make_grid(30);
   const Mesh holed = punch(g, 10.5, 19.5);  // a 10 x 10 opening, edges at x, y = 10 and 20
-  std::vector<Vec3> seen;
-  for (const Vec3& p : g.positions)
-    if (!(p.x() > 10.5 && p.x() < 19.5 && p.y() > 10.5 && p.y() < 19.5)) seen.push_back(p);
+  std::vector<Vec3> seen = points_around(g, 10.5, 19.5);
   // Noise beside the rim: points inside the opening, within the coverage radius (2) of the mesh, one of
   // them within 1.5 of the probe halfway from the centroid to a corner (12.5, 12.5).
   seen.push_back(Vec3(11.3, 12.5, 0.4));
@@ -94,9 +98,7 @@ TEST(ScanFit, PointsTheMeshCoversBesideAGapDoNotMakeItAHole) {
 TEST(ScanFit, ALoopKeepsTheKindItHadAsMeshedWhenLaterStagesOnlyMovedVertices) {
   const Mesh g = test::make_grid(30);
   const Mesh holed = punch(g, 10.5, 19.5);  // a 10 x 10 opening, edges at x, y = 10 and 20
-  std::vector<Vec3> seen;
-  for (const Vec3& p : g.positions)
-    if (!(p.x() > 10.5 && p.x() < 19.5 && p.y() > 10.5 && p.y() < 19.5)) seen.push_back(p);
+  std::vector<Vec3> seen = points_around(g, 10.5, 19.5);
   // Noise along the rim, inside the opening, within the coverage radius (2) of the mesh as meshed and
   // within 1.5 of the probe halfway from the centroid to the corner (12.5, 12.5).
   for (const Vec3& p : {Vec3(11.8, 12.5, 0.0), Vec3(12.5, 11.8, 0.0), Vec3(11.9, 13.0, 0.0), Vec3(11.6, 11.9, 0.0)}) seen.push_back(p);
