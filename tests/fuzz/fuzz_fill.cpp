@@ -1,6 +1,7 @@
 // libFuzzer harness for hole filling: any mesh the OFF reader accepts, cleaned the way mesh.auto cleans
 // greedy projection's output, has its loops' slits zipped (copies of a vertex at one position welded, as
-// mesh.auto does), every remaining loop closed and half of the patches taken out again.
+// mesh.auto does), every remaining loop closed and half of the patches taken out again, and the result judged
+// against the loops it had before (as the final report judges a mesh against the one meshing made).
 // The contract under test: no crash, no undefined behaviour, no hang (a loop's cubic cost is budgeted)
 // and every face index in range afterwards.
 #include <cmath>
@@ -47,6 +48,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = static_cast<char>(i % 2);
     scanmesh::remove_patches(m, patches, keep);
     check_indices(m);
+    if (!m.faces.empty()) {  // judged again, its loops against those of the mesh before the closing (mesh.auto's final report)
+      const scanmesh::ScanFit after = scanmesh::measure_scan_fit(m, m.positions, edge, false, &fit);
+      if (after.rims + after.gaps + after.holes != after.loops.size()) __builtin_trap();
+    }
   } catch (const scanmesh::Error&) {
   }
   return 0;

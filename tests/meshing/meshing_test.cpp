@@ -277,11 +277,12 @@ TEST(MeshCloud, AutoKeepsGreedyProjectionWhereItCoversTheScan) {
   EXPECT_GE(d.fit.coverage, 0.99);
 }
 
-TEST(MeshCloud, AutoClosesASmallGapAndLeavesTheUnseenRegionOpen) {
+TEST(MeshCloud, AutoClosesAGapWithinItsTrimDistanceAndLeavesTheUnseenRegionOpen) {
   // A sphere scanned all round but for a cap the views missed (the rim of what was seen) and a spot six
   // spacings across without points, which greedy projection leaves open (a gap: the probe at its centre
-  // finds no point within 1.5 spacings). The spot's patch lies within the trim distance of the points
-  // and is kept; the unseen cap, far from every point, stays open.
+  // finds no point within 1.5 spacings). The spot's patch reaches 3 spacings from the points: beyond the
+  // closing's default trim (1.5 spacings), so it stays open, and within a trim of 4, which keeps it. The
+  // unseen cap, far from every point, stays open either way.
   const PointCloud full = sampled_sphere(4000);
   const double spacing = std::sqrt(4.0 * M_PI / 4000.0);
   const Vec3 pole(0, 0, 1), spot = Vec3(1, 1, -0.3).normalized();
@@ -291,21 +292,69 @@ TEST(MeshCloud, AutoClosesASmallGapAndLeavesTheUnseenRegionOpen) {
   c.width = static_cast<int>(c.size());
   estimate_normals(c, NormalOptions{});
   const CloudScale s = measure_scale(c);
+  auto loops = [](const MeshingDecision& d) {
+    std::pair<std::size_t, std::size_t> rims_others{0, 0};
+    for (const auto& loop : d.fit.loops) (loop.kind == BoundaryLoopFit::Kind::rim ? rims_others.first : rims_others.second) += 1;
+    return rims_others;
+  };
+  MeshingDecision d;
+  const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
+  ASSERT_EQ(d.method, MeshMethod::gp3) << d.reason;  // an open gap does not count against greedy projection
+  const ClosestPointIndex surface(m);
+  EXPECT_GT(surface.closest(spot).distance, 0.5 * s.spacing) << d.reason;
+  EXPECT_GT(surface.closest(pole).distance, 5.0 * s.spacing) << d.reason;
+  EXPECT_EQ(loops(d), std::make_pair(std::size_t{1}, std::size_t{1})) << d.reason;  // the cap's rim and the spot, a gap
+  MeshMethodOptions loose;
+  loose.fill_trim = Length::spacings(4.0);
+  MeshingDecision dl;
+  const Mesh ml = mesh_cloud(c, loose, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &dl);
+  ASSERT_EQ(dl.method, MeshMethod::gp3) << dl.reason;
+  const ClosestPointIndex loose_surface(ml);
+  EXPECT_LT(loose_surface.closest(spot).distance, 0.5 * s.spacing) << dl.reason;  // closed (a flat patch on the sphere)
+  EXPECT_GT(loose_surface.closest(pole).distance, 5.0 * s.spacing) << dl.reason;
+  EXPECT_EQ(loops(dl), std::make_pair(std::size_t{1}, std::size_t{0})) << dl.reason;
+  // Without closing, greedy projection leaves the spot open: the test above is about the closing.
+  loose.fill_holes = false;
+  const Mesh open = mesh_cloud(c, loose, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, nullptr);
+  EXPECT_GT(ClosestPointIndex(open).closest(spot).distance, 0.5 * s.spacing);
+}
+
+TEST(MeshCloud, AOneSidedScansDropoutIsClosedWithItsOwnTrim) {
+  // A single view of a gently curved sheet (normals towards the sensor above) with a round dropout 5.6
+  // spacings across: one-sided, so the closing's patch may reach fill_trim_one_sided (3 spacings) from
+  // the points, and the dropout is closed; with that trim at 2 spacings it stays open.
+  PointCloud c;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  const Vec3 centre(20.0, 20.0, 0.0);
+  auto height = [](double x, double y) { return 0.004 * ((x - 20) * (x - 20) + (y - 20) * (y - 20)); };
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j) {
+      const double x = i + jitter(rng), y = j + jitter(rng);
+      if (std::hypot(x - centre.x(), y - centre.y()) <= 2.8) continue;
+      c.points.emplace_back(x, y, height(x, y));
+      c.normals.push_back(Vec3(-0.008 * (x - 20), -0.008 * (y - 20), 1.0).normalized());
+    }
+  c.width = static_cast<int>(c.size());
+  const CloudScale s = measure_scale(c);
+  const Vec3 middle(20.0, 20.0, 0.0);
   MeshingDecision d;
   const Mesh m = mesh_cloud(c, MeshMethodOptions{}, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &d);
   ASSERT_EQ(d.method, MeshMethod::gp3) << d.reason;
-  const ClosestPointIndex surface(m);
-  EXPECT_LT(surface.closest(spot).distance, 0.5 * s.spacing) << d.reason;  // closed (a flat patch on the sphere)
-  EXPECT_GT(surface.closest(pole).distance, 5.0 * s.spacing) << d.reason;  // left open
-  std::size_t rims = 0, others = 0;
-  for (const auto& loop : d.fit.loops) (loop.kind == BoundaryLoopFit::Kind::rim ? rims : others) += 1;
-  EXPECT_EQ(rims, 1u) << d.reason;
-  EXPECT_EQ(others, 0u) << d.reason;
-  // Without closing, greedy projection leaves the spot open: the test above is about the closing.
-  MeshMethodOptions keep;
-  keep.fill_holes = false;
-  const Mesh open = mesh_cloud(c, keep, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, nullptr);
-  EXPECT_GT(ClosestPointIndex(open).closest(spot).distance, 0.5 * s.spacing);
+  ASSERT_NE(d.reason.find("holes closed"), std::string::npos) << d.reason;
+  EXPECT_LT(ClosestPointIndex(m).closest(middle).distance, 0.5 * s.spacing) << d.reason;
+  MeshMethodOptions tight;
+  tight.fill_trim_one_sided = Length::spacings(2.0);
+  MeshingDecision dt;
+  const Mesh mt = mesh_cloud(c, tight, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &dt);
+  ASSERT_EQ(dt.method, MeshMethod::gp3) << dt.reason;
+  EXPECT_GT(ClosestPointIndex(mt).closest(middle).distance, 2.0 * s.spacing) << dt.reason;
+  // fill_trim, for clouds seen from several sides, does not apply here.
+  MeshMethodOptions other;
+  other.fill_trim = Length::spacings(1.0);
+  MeshingDecision dother;
+  const Mesh mo = mesh_cloud(c, other, Gp3Options{}, OrganizedOptions{}, PoissonOptions{}, s, &dother);
+  EXPECT_LT(ClosestPointIndex(mo).closest(middle).distance, 0.5 * s.spacing) << dother.reason;
 }
 
 TEST(MeshCloud, AutoTurnsToPoissonWhereGreedyProjectionLeavesHoles) {

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <unordered_set>
 
 #include "scanmesh/clean_cloud.h"
 #include "scanmesh/clean_mesh.h"
@@ -128,19 +129,27 @@ double opposed_normal_share(const PointCloud& cloud, double spacing) {
 // Closes every loop but the pieces' rims: the loops held open (points inside left out, or beside them: a
 // meshing failure; loops too short to count as well), and gaps, where a patch may still lie on the data.
 // A patch stays only where it lies on the data: every one of its faces' centroids within `trim` of an
-// input point, the rule that trims Poisson's surface, so a gap the scan saw nothing of stays open. Gaps are
+// input point (MeshMethodOptions::fill_trim), so a gap the scan saw nothing of stays open. Gaps are
 // closed too because the boundary between a gap and a hole is a matter of a spacing: a small loop whose
 // inside has points near some probes and not others is a gap, and denoising, which moves the loop by a
 // fraction of a spacing, can make it a hole in the final mesh (a virtual scan of the cow, 6 views of
 // 160 x 120, noise 0.4: greedy projection with a 14-spacing gap, status degraded after denoising).
-// With `holes_only`, only the holes are closed. Returns the number of loops closed.
-std::size_t fill_scan_holes(Mesh& mesh, const ScanFit& fit, const std::vector<Vec3>& points, double trim, bool holes_only = false) {
+// A hole encloses measured surface, so its patch may reach `hole_trim` (>= trim) from the points. With
+// `holes_only`, only the holes are closed. Returns the number of loops closed.
+std::size_t fill_scan_holes(Mesh& mesh, const ScanFit& fit, const std::vector<Vec3>& points, double trim, double hole_trim,
+                            bool holes_only = false) {
   std::vector<std::vector<int>> rings;
-  for (const auto& l : fit.loops)
+  std::unordered_set<int> on_hole;  // the vertices of the holes' loops
+  for (const auto& l : fit.loops) {
     if (holes_only ? l.kind == BoundaryLoopFit::Kind::hole : l.kind != BoundaryLoopFit::Kind::rim) rings.push_back(l.ring);
+    if (l.kind == BoundaryLoopFit::Kind::hole) on_hole.insert(l.ring.begin(), l.ring.end());
+  }
   if (rings.empty()) return 0;
   std::size_t zipped = 0;
-  rings = zip_slits(mesh, rings, &zipped);
+  rings = zip_slits(mesh, rings, &zipped);  // loops zipped shut are gone, others keep their vertices but the welded ones
+  std::vector<double> ring_trim(rings.size(), trim);
+  for (std::size_t i = 0; i < rings.size(); ++i)
+    if (!rings[i].empty() && on_hole.count(rings[i].front()) > 0) ring_trim[i] = hole_trim;
   std::vector<FilledHole> patches = fill_holes(mesh, rings);
   std::vector<Vec3> centroids;
   std::vector<std::size_t> owner;
@@ -154,7 +163,7 @@ std::size_t fill_scan_holes(Mesh& mesh, const ScanFit& fit, const std::vector<Ve
   std::vector<char> keep(patches.size(), 0);
   for (std::size_t i = 0; i < patches.size(); ++i) keep[i] = patches[i].filled ? 1 : 0;
   for (std::size_t k = 0; k < d.size(); ++k)
-    if (!(d[k] <= trim)) keep[owner[k]] = 0;
+    if (!(d[k] <= ring_trim[owner[k]])) keep[owner[k]] = 0;
   remove_patches(mesh, patches, keep);
   return zipped + static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
 }
@@ -251,11 +260,17 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
     say("greedy projection, " + std::to_string(peeled) + " pieces lying over others removed: " + std::to_string(g.faces.size()) + " faces, " +
         fit_words(gf, limits));
   }
+  const double one_sided = one_sided_share(cloud);
+  const bool one_sided_surface = one_sided >= kOneSidedShare;
   std::size_t closed_holes = 0;
   const bool closing_ran = method.fill_holes && (shortfall(gf, limits) > 0.0 || gf.gaps > 0);
   if (closing_ran) {
-    const double trim = poisson.trim_distance.resolve(scale.spacing, scale.spacing, scale.diagonal);
-    closed_holes = fill_scan_holes(g, gf, points, trim);
+    const double trim = (one_sided_surface ? method.fill_trim_one_sided : method.fill_trim).resolve(scale.spacing, scale.spacing, scale.diagonal);
+    // A hole encloses measured surface, so its patch may reach as far from the points as trimmed
+    // Poisson's surface does (a virtual scan of featuretype, 8 views of 96 x 72: at the gaps' trim a
+    // hole stayed open and sent the cloud to Poisson).
+    const double hole_trim = std::max(trim, poisson.trim_distance.resolve(scale.spacing, scale.spacing, scale.diagonal));
+    closed_holes = fill_scan_holes(g, gf, points, trim, hole_trim);
     // Closing can leave holes of its own: a patch that meets another loop at a vertex pinches it into a
     // long loop and a short one, too small to be a gap in the data (a virtual scan of the dragon, 12 views
     // of 1600 x 1200 thinned to 289k points: one such hole sent the cloud to Poisson, 31 s more). Up to
@@ -265,7 +280,7 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
       gf = measure_scan_fit(g, points, scale.spacing);
       say("greedy projection, " + std::to_string(closed_holes) + " holes closed: " + std::to_string(g.faces.size()) + " faces, " + fit_words(gf, limits));
       if (pass == 2 || shortfall(gf, limits, false) == 0.0) break;
-      const std::size_t more = fill_scan_holes(g, gf, points, trim, true);
+      const std::size_t more = fill_scan_holes(g, gf, points, hole_trim, hole_trim, true);
       if (more == 0) break;
       closed_holes += more;
     }
@@ -280,8 +295,6 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   // Poisson, 31 of them only for such gaps, and greedy projection there had the lower E_v on 28 and the
   // lower normal error on 18 (means 2.25e-3 -> 1.58e-3 of the diagonal, 9.46 -> 9.01 degrees;
   // docs/EXPERIMENTS.md, "A scan's triangulation that no feature-keeping iteration improves").
-  const double one_sided = one_sided_share(cloud);
-  const bool one_sided_surface = one_sided >= kOneSidedShare;
   const double gs = shortfall(gf, limits, !closing_ran);
   std::string gp3_words = "greedy projection";
   if (peeled > 0 || closed_holes > 0) {

@@ -22,6 +22,8 @@ enum class MeshMethod { automatic, gp3, organized, poisson };
 struct MeshMethodOptions {
   MeshMethod method = MeshMethod::automatic;
   bool fill_holes = true;
+  Length fill_trim = Length::spacings(1.5);
+  Length fill_trim_one_sided = Length::spacings(3.0);
   static const Schema<MeshMethodOptions>& schema() {
     static const Schema<MeshMethodOptions> s = Schema<MeshMethodOptions>()
         .choice(
@@ -32,7 +34,15 @@ struct MeshMethodOptions {
         "organized needs a grid cloud; poisson makes a smooth surface with new vertices.")
         .flag("fill_holes", &MeshMethodOptions::fill_holes,
               "auto: close greedy projection's holes and gaps before judging it; a patch stays only where it lies "
-              "within the Poisson trim distance of the points, so a gap the scan saw nothing of stays open.");
+              "within fill_trim of the points, so a gap the scan saw nothing of stays open.")
+        .length("fill_trim", &MeshMethodOptions::fill_trim, at_least(0),
+                "auto: a patch closing a gap stays only where each of its faces' centres lies within this of an "
+                "input point (farther out a membrane spans a region no view saw, off the real surface); a hole's "
+                "patch (its loop encloses points left out: measured surface) within poisson_trim.")
+        .length("fill_trim_one_sided", &MeshMethodOptions::fill_trim_one_sided, at_least(0),
+                "auto: fill_trim for one-sided clouds (a single view, a relief: 90% of the normals in one "
+                "hemisphere), whose holes inside the surface are mostly spots the view saw around (dark, shiny, "
+                "grazing), where a membrane stays close to the surface.");
     return s;
   }
 };
