@@ -264,8 +264,8 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
   const bool one_sided_surface = one_sided >= kOneSidedShare;
   std::size_t closed_holes = 0;
   const bool closing_ran = method.fill_holes && (shortfall(gf, limits) > 0.0 || gf.gaps > 0);
+  const double trim = (one_sided_surface ? method.fill_trim_one_sided : method.fill_trim).resolve(scale.spacing, scale.spacing, scale.diagonal);
   if (closing_ran) {
-    const double trim = (one_sided_surface ? method.fill_trim_one_sided : method.fill_trim).resolve(scale.spacing, scale.spacing, scale.diagonal);
     // A hole encloses measured surface, so its patch may reach as far from the points as trimmed
     // Poisson's surface does (a virtual scan of featuretype, 8 views of 96 x 72: at the gaps' trim a
     // hole stayed open and sent the cloud to Poisson).
@@ -309,6 +309,7 @@ Mesh mesh_cloud(PointCloud& cloud, const MeshMethodOptions& method, const Gp3Opt
                {"gp3_holes", static_cast<double>(gf.holes)},
                {"gp3_pieces", static_cast<double>(gf.pieces)},
                {"gp3_holes_closed", static_cast<double>(closed_holes)},
+               {"gp3_fill_trim", closing_ran ? trim : 0.0},  // scene units; 0: the closing did not run
                {"gp3_layers_removed", static_cast<double>(peeled)}};
   if (gs == 0.0) {
     d.method = MeshMethod::gp3;
