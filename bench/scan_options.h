@@ -1,6 +1,6 @@
 #pragma once
 // The virtual scanner's settings on the command line of the bench tools that make scans
-// (`--views N`, `--pixels WxH`, `--scan-noise S`), read the same way by each.
+// (`--views N`, `--pixels WxH`, `--scan-noise S`, `--dropouts N`, `--dropout-radius R`), read the same way by each.
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -15,6 +15,10 @@ inline bool read_scan_option(int& i, int argc, char** argv, VirtualScanOptions& 
   if (i + 1 >= argc) return false;
   if (!std::strcmp(argv[i], "--views")) {
     options.views = std::stoi(argv[++i]);
+  } else if (!std::strcmp(argv[i], "--dropouts")) {
+    options.dropouts = std::stoi(argv[++i]);
+  } else if (!std::strcmp(argv[i], "--dropout-radius")) {
+    options.dropout_radius = std::stod(argv[++i]);
   } else if (!std::strcmp(argv[i], "--scan-noise")) {
     options.noise = std::stod(argv[++i]);
   } else if (!std::strcmp(argv[i], "--pixels")) {

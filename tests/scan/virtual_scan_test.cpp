@@ -60,6 +60,43 @@ TEST(VirtualScan, NoiseGrowsAlongTheRaysAndIsSeededAndThreadIndependent) {
   EXPECT_LT(rms, 2.0 * 0.3 / 6.0);
 }
 
+TEST(VirtualScan, DropoutsLeaveRoundSpotsEmptyAndTouchNothingElse) {
+  const Mesh sphere = test::make_sphere(3);
+  VirtualScanOptions o;
+  o.views = 2;
+  o.width = 64;
+  o.height = 48;
+  const auto full = virtual_scan(sphere, o);
+  o.dropouts = 6;
+  o.dropout_radius = 2.5;
+  set_thread_count(1);
+  const auto holed = virtual_scan(sphere, o);
+  set_thread_count(2);
+  const auto again = virtual_scan(sphere, o);
+  set_thread_count(0);
+  ASSERT_EQ(holed.size(), 2u);
+  EXPECT_EQ(merge_views(holed).points, merge_views(again).points);  // the spots depend on the seed, not the threads
+  std::size_t lost = 0;
+  for (std::size_t v = 0; v < holed.size(); ++v) {
+    ASSERT_EQ(holed[v].points.size(), full[v].points.size());
+    std::size_t empty = 0;
+    for (std::size_t k = 0; k < holed[v].points.size(); ++k) {
+      const Vec3& p = holed[v].points[k];
+      if (p.allFinite()) {
+        EXPECT_EQ(p, full[v].points[k]);  // a pixel kept is the same measurement
+      } else {
+        ++empty;
+        lost += full[v].points[k].allFinite() ? 1 : 0;
+      }
+    }
+    // Six spots of radius 2.5 pixels: at most 6 x 29 pixels, less where they overlap or leave the image.
+    std::size_t empty_before = 0;
+    for (const Vec3& p : full[v].points) empty_before += p.allFinite() ? 0 : 1;
+    EXPECT_LE(empty - empty_before, 6u * 29u);
+  }
+  EXPECT_GT(lost, 0u);  // the object fills two thirds of the image: some spots fall on it
+}
+
 TEST(VirtualScan, RejectsBadOptions) {
   VirtualScanOptions o;
   o.views = 0;

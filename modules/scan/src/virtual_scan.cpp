@@ -7,8 +7,10 @@
 #include <vtkPolyData.h>
 #include <vtkStaticCellLocator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "scanmesh/errors.h"
 #include "scanmesh/geometry.h"
@@ -92,11 +94,30 @@ std::vector<PointCloud> virtual_scan(const Mesh& mesh, const VirtualScanOptions&
     rot.col(2) = forward;  // camera frame: x right, y down, z forward
     cloud.sensor_orientation = rot;
     const long pixels = static_cast<long>(o.width) * o.height;
+    // Dropout spots: centres from (seed, view), drawn before the rays so that threads cannot change them.
+    std::vector<char> dropped;
+    if (o.dropouts > 0) {
+      dropped.assign(static_cast<std::size_t>(pixels), 0);
+      std::seed_seq seq{static_cast<std::uint32_t>(o.seed), static_cast<std::uint32_t>(o.seed >> 32), static_cast<std::uint32_t>(v), 0x5d0u};
+      std::mt19937_64 rng(seq);
+      const double r = o.dropout_radius;
+      for (int i = 0; i < o.dropouts; ++i) {
+        const double cx = static_cast<double>(rng() >> 11) * 0x1.0p-53 * o.width;
+        const double cy = static_cast<double>(rng() >> 11) * 0x1.0p-53 * o.height;
+        const int c0 = std::max(0, static_cast<int>(std::floor(cx - r))), c1 = std::min(o.width - 1, static_cast<int>(std::ceil(cx + r)));
+        const int r0 = std::max(0, static_cast<int>(std::floor(cy - r))), r1 = std::min(o.height - 1, static_cast<int>(std::ceil(cy + r)));
+        for (int row = r0; row <= r1; ++row)
+          for (int col = c0; col <= c1; ++col)
+            if ((col + 0.5 - cx) * (col + 0.5 - cx) + (row + 0.5 - cy) * (row + 0.5 - cy) <= r * r)
+              dropped[static_cast<std::size_t>(row) * o.width + col] = 1;
+      }
+    }
 #pragma omp parallel
     {
       vtkNew<vtkGenericCell> cell;
 #pragma omp for schedule(dynamic, 256)
       for (long k = 0; k < pixels; ++k) {
+        if (!dropped.empty() && dropped[static_cast<std::size_t>(k)]) continue;
         const int col = static_cast<int>(k % o.width), row = static_cast<int>(k / o.width);
         const double px = (2.0 * (col + 0.5) / o.width - 1.0) * tan_x;
         const double py = (1.0 - 2.0 * (row + 0.5) / o.height) * tan_y;

@@ -17,6 +17,8 @@ struct VirtualScanOptions {
   int height = 240;
   double fov_deg = 40.0;
   double noise = 0.3;
+  int dropouts = 0;
+  double dropout_radius = 3.0;
   std::uint64_t seed = 1;
   static const Schema<VirtualScanOptions>& schema() {
     static const Schema<VirtualScanOptions> s =
@@ -29,6 +31,10 @@ struct VirtualScanOptions {
                     "Horizontal field of view; the object fills about two thirds of it.")
             .number("scan_noise", &VirtualScanOptions::noise, closed(0, 100), "x mean edge",
                     "Depth noise deviation at the mean viewing distance, growing with depth squared like a Kinect's.")
+            .integer("dropouts", &VirtualScanOptions::dropouts, closed(0, 100000), "count",
+                     "Round spots per view where the sensor returns nothing (a dark, shiny or grazing patch), "
+                     "centred at random over the image.")
+            .number("dropout_radius", &VirtualScanOptions::dropout_radius, closed(0.5, 10000), "pixels", "Radius of each dropout spot.")
             .seed("scan_seed", &VirtualScanOptions::seed, "Same seed, same scan, whatever the thread count.");
     return s;
   }
