@@ -21,13 +21,20 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Standard normal value that depends only on (seed, view, pixel): threads cannot change the noise.
+// Random numbers that depend only on (seed, view, what they are for), so threads cannot change them.
+std::mt19937_64 generator(std::uint64_t seed, int view, std::uint32_t purpose) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), static_cast<std::uint32_t>(view), purpose};
+  return std::mt19937_64(seq);
+}
+
+// Uniform in [0, 1), the same on every platform (the standard distributions are not).
+double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
+// Standard normal value for one pixel of one view.
 double pixel_noise(std::uint64_t seed, int view, long pixel) {
-  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), static_cast<std::uint32_t>(view),
-                    static_cast<std::uint32_t>(pixel)};
-  std::mt19937_64 rng(seq);
-  const double u = 1.0 - static_cast<double>(rng() >> 11) * 0x1.0p-53;
-  const double v = static_cast<double>(rng() >> 11) * 0x1.0p-53;
+  std::mt19937_64 rng = generator(seed, view, static_cast<std::uint32_t>(pixel));
+  const double u = 1.0 - unit(rng);
+  const double v = unit(rng);
   return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * kPi * v);
 }
 
@@ -98,12 +105,11 @@ std::vector<PointCloud> virtual_scan(const Mesh& mesh, const VirtualScanOptions&
     std::vector<char> dropped;
     if (o.dropouts > 0) {
       dropped.assign(static_cast<std::size_t>(pixels), 0);
-      std::seed_seq seq{static_cast<std::uint32_t>(o.seed), static_cast<std::uint32_t>(o.seed >> 32), static_cast<std::uint32_t>(v), 0x5d0u};
-      std::mt19937_64 rng(seq);
+      std::mt19937_64 rng = generator(o.seed, v, 0x5d0u);
       const double r = o.dropout_radius;
       for (int i = 0; i < o.dropouts; ++i) {
-        const double cx = static_cast<double>(rng() >> 11) * 0x1.0p-53 * o.width;
-        const double cy = static_cast<double>(rng() >> 11) * 0x1.0p-53 * o.height;
+        const double cx = unit(rng) * o.width;
+        const double cy = unit(rng) * o.height;
         const int c0 = std::max(0, static_cast<int>(std::floor(cx - r))), c1 = std::min(o.width - 1, static_cast<int>(std::ceil(cx + r)));
         const int r0 = std::max(0, static_cast<int>(std::floor(cy - r))), r1 = std::min(o.height - 1, static_cast<int>(std::ceil(cy + r)));
         for (int row = r0; row <= r1; ++row)
